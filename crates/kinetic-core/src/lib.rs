@@ -1,0 +1,46 @@
+//! # kinetic-core
+//!
+//! The kinetic core of kinetic-collide: flight plans, certificate roots, an indexed event
+//! queue, kinetic sorted lists, the simulator loop and the brute-force reference structure.
+//! A kinetic data structure keeps certificates (facts that prove objects are apart), computes
+//! when each fails from the objects' flight plans, and processes failures in time order, so
+//! contacts are found at their exact time whatever the speeds.
+//!
+//! ```
+//! use kinetic_core::{ContactKind, FlightPlan, Vec3, World, WorldKind};
+//!
+//! let mut world = World::new(WorldKind::Free);
+//! let a = world.add_ball(1.0, FlightPlan::linear(Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0))).unwrap();
+//! let b = world.add_ball(1.0, FlightPlan::at_rest(Vec3::new(10.0, 0.0, 0.0))).unwrap();
+//! world.advance_to(5.0).unwrap();
+//! let events = world.drain_events();
+//! assert_eq!((events[0].time, events[0].kind), (4.0, ContactKind::Begin));
+//! # let _ = (a, b);
+//! ```
+#![warn(missing_docs)]
+#![forbid(unsafe_code)]
+
+mod brute_force;
+pub mod certificates;
+mod math;
+mod plan;
+mod poly;
+mod queue;
+pub mod roots;
+mod sorted_list;
+mod structure;
+mod world;
+
+pub use brute_force::BruteForce;
+pub use certificates::{OrderCertificate, ScalarKey};
+pub use math::{Quat, Real, Vec3};
+pub use plan::FlightPlan;
+pub use poly::{Poly, sign};
+pub use queue::EventQueue;
+pub use sorted_list::{KineticSortedList, SortedListError, Swap};
+pub use structure::{Bodies, CandidateStructure, PairChange};
+pub use world::step::StepKind;
+pub use world::{
+    Body, ContactEvent, ContactKind, ObjectId, PairCertificate, Response, Shape, Stats, Walls, World,
+    WorldError, WorldKind,
+};

@@ -1,0 +1,44 @@
+//! What a kinetic collision structure provides to the simulator: a set of candidate pairs
+//! that always contains every pair in contact, kept up to date by its own events.
+//!
+//! The simulator ([`crate::World`]) keeps a disjointness certificate for each candidate pair
+//! and reports contacts; a structure only decides which pairs are candidates. The brute force
+//! ([`crate::BruteForce`]) makes every pair a candidate and has no events of its own.
+
+use crate::math::Real;
+use crate::world::Body;
+
+/// A change to the candidate set: `delta` is +1 (the structure now needs the pair certified)
+/// or -1 (it no longer does). A pair may be needed for several reasons; the simulator counts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PairChange {
+    /// One object.
+    pub a: u32,
+    /// The other object.
+    pub b: u32,
+    /// +1 or -1.
+    pub delta: i32,
+}
+
+/// The live objects, by id: `bodies[id]` is `None` for ids not (or no longer) in the world.
+pub type Bodies = [Option<Body>];
+
+/// A kinetic structure that maintains candidate pairs.
+pub trait CandidateStructure: std::fmt::Debug {
+    /// The name used in statistics and on the command line.
+    fn name(&self) -> &'static str;
+    /// Object `id` (already in `bodies`) joins at time `now`.
+    fn insert(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>);
+    /// Object `id` (still in `bodies`) leaves at time `now`.
+    fn remove(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>);
+    /// Object `id` has a new flight plan from `now` on.
+    fn replan(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>);
+    /// The time of the structure's next own event (+infinity for none).
+    fn next_event_time(&self) -> Real;
+    /// Processes the next own event; returns its kind for the statistics (e.g. `"swap"`).
+    fn process_next_event(&mut self, bodies: &Bodies, changes: &mut Vec<PairChange>) -> &'static str;
+    /// The number of certificates the structure itself holds (pair certificates excluded).
+    fn certificates(&self) -> usize;
+    /// Recomputes the structure's invariants from scratch at time `now`.
+    fn validate(&self, bodies: &Bodies, now: Real) -> Result<(), String>;
+}

@@ -1,0 +1,354 @@
+//! Pair certificates: one `ball_ball_disjoint` certificate per candidate pair, with the
+//! contact state machine of the scene format.
+//!
+//! Each certificate caches the roots of its polynomial from the moment it was made and walks
+//! them in order (CGAL style): the next event after a begin is found among the same roots, so
+//! a root that rounding put a hair early or late never fires twice.
+
+use super::{ContactEvent, ContactKind, ObjectId, Response, World, WorldKind};
+use crate::certificates::ball_ball_gap;
+use crate::math::Real;
+use crate::poly::Poly;
+use crate::roots::{Root, Roots, roots_after_zero};
+use crate::structure::PairChange;
+use rustc_hash::FxHashMap;
+
+/// Where the next contact event of a polynomial gap comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Source {
+    /// At the moment the walk was made.
+    Now,
+    /// A root of the gap `f`.
+    F,
+    /// A root of its derivative `f'` (overlapping objects start to approach).
+    G,
+}
+
+/// What the next event of a walk is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Due {
+    /// Contact begins (no response) or a collision happens (elastic).
+    Begin,
+    /// Contact ends.
+    End,
+    /// The objects touch at one instant without overlapping: begin and end together.
+    Graze,
+}
+
+/// The cached roots of a gap polynomial `f` (and, for the elastic response, of `f'`) made at
+/// time `made`, and where the walk through them stands.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Walk {
+    made: Real,
+    f: Roots,
+    g: Roots,
+    f_next: u8,
+    g_next: u8,
+    /// `f < 0` (overlapping) at the walk's position.
+    inside: bool,
+    /// The next event, if any: `(time, source, kind)`.
+    pub due: Option<(Real, Source, Due)>,
+}
+
+impl Walk {
+    /// The contact walk of gap `f` (local time around `now`) for an object pair in state
+    /// `touching` under no response: begins, ends and grazes.
+    pub(crate) fn contact(f: &Poly, now: Real, touching: bool) -> Walk {
+        let mut w = Walk::empty(now, roots_after_zero(f), Roots::default(), touching);
+        w.advance_contact();
+        w
+    }
+
+    /// The collision walk of gap `f` under the elastic response: the first time at which
+    /// `f <= 0` and `f' < 0` (touching and approaching); grazes as [`Due::Graze`].
+    pub(crate) fn elastic(f: &Poly, now: Real) -> Walk {
+        let g = f.derivative();
+        let inside = f.sign_just_after_zero() < 0;
+        let mut w = Walk::empty(now, roots_after_zero(f), roots_after_zero(&g), inside);
+        if (inside || f.c[0] == 0.0) && g.sign_just_after_zero() < 0 {
+            w.due = Some((now, Source::Now, Due::Begin));
+        } else {
+            w.advance_elastic();
+        }
+        w
+    }
+
+    fn empty(made: Real, f: Roots, g: Roots, inside: bool) -> Walk {
+        Walk { made, f, g, f_next: 0, g_next: 0, inside, due: None }
+    }
+
+    /// Steps past the root that is due (after its event was processed) and finds the next.
+    pub(crate) fn consume(&mut self, response: Response) {
+        let Some((_, source, kind)) = self.due else { return };
+        match source {
+            Source::Now => {}
+            Source::F => {
+                self.f_next += 1;
+                if kind != Due::Graze {
+                    self.inside = kind == Due::Begin;
+                }
+            }
+            Source::G => self.g_next += 1,
+        }
+        match response {
+            Response::None => self.advance_contact(),
+            Response::Elastic => self.advance_elastic(),
+        }
+    }
+
+    fn at(&self, r: Root, source: Source, kind: Due) -> Option<(Real, Source, Due)> {
+        Some((self.made + r.tau, source, kind))
+    }
+
+    fn advance_contact(&mut self) {
+        self.due = None;
+        while let Some(r) = self.f.get(self.f_next as usize) {
+            let found = match (self.inside, r.before, r.after) {
+                (false, 1, -1) => Due::Begin,
+                (false, 1, 1) => Due::Graze,
+                (true, -1, 1) => Due::End,
+                _ => {
+                    self.f_next += 1;
+                    continue;
+                }
+            };
+            self.due = self.at(r, Source::F, found);
+            return;
+        }
+    }
+
+    fn advance_elastic(&mut self) {
+        self.due = None;
+        loop {
+            let rf = self.f.get(self.f_next as usize);
+            let rg = self.g.get(self.g_next as usize);
+            let (f_first, r) = match (rf, rg) {
+                (Some(f), Some(g)) if f.tau <= g.tau => (true, f),
+                (_, Some(g)) => (false, g),
+                (Some(f), None) => (true, f),
+                (None, None) => return,
+            };
+            if f_first {
+                match (self.inside, r.before, r.after) {
+                    (false, 1, -1) => return self.due = self.at(r, Source::F, Due::Begin),
+                    (false, 1, 1) => return self.due = self.at(r, Source::F, Due::Graze),
+                    (true, _, 1) => self.inside = false,
+                    _ => {}
+                }
+                self.f_next += 1;
+            } else {
+                if self.inside && r.after < 0 {
+                    return self.due = self.at(r, Source::G, Due::Begin);
+                }
+                self.g_next += 1;
+            }
+        }
+    }
+}
+
+/// The certificate of one candidate pair.
+#[derive(Clone, Copy, Debug)]
+pub struct PairCertificate {
+    /// The object with the lower id.
+    pub a: u32,
+    /// The object with the higher id.
+    pub b: u32,
+    /// How many reasons the structure has to keep the pair.
+    refs: u32,
+    /// In contact (no response only).
+    pub touching: bool,
+    pub(crate) walk: Walk,
+}
+
+impl PairCertificate {
+    /// When this certificate fails next (+infinity for never).
+    pub fn due_time(&self) -> Real {
+        self.walk.due.map_or(Real::INFINITY, |d| d.0)
+    }
+}
+
+/// Candidate pairs by slot, with an index by pair and by object.
+#[derive(Debug, Default)]
+pub(crate) struct PairTable {
+    slots: Vec<Option<PairCertificate>>,
+    free: Vec<u32>,
+    index: FxHashMap<u64, u32>,
+    of_object: Vec<Vec<u32>>,
+    live: usize,
+}
+
+fn pair_key(a: u32, b: u32) -> u64 {
+    (u64::from(a) << 32) | u64::from(b)
+}
+
+impl PairTable {
+    pub(crate) fn len(&self) -> usize {
+        self.live
+    }
+
+    pub(crate) fn get(&self, slot: u32) -> &PairCertificate {
+        self.slots[slot as usize].as_ref().expect("live slot")
+    }
+
+    pub(crate) fn get_mut(&mut self, slot: u32) -> &mut PairCertificate {
+        self.slots[slot as usize].as_mut().expect("live slot")
+    }
+
+    pub(crate) fn find(&self, a: u32, b: u32) -> Option<u32> {
+        self.index.get(&pair_key(a.min(b), a.max(b))).copied()
+    }
+
+    pub(crate) fn slots_of(&self, object: u32) -> Vec<u32> {
+        self.of_object.get(object as usize).cloned().unwrap_or_default()
+    }
+
+    pub(crate) fn iter(&self) -> impl Iterator<Item = (u32, &PairCertificate)> {
+        self.slots
+            .iter()
+            .enumerate()
+            .filter_map(|(i, s)| s.as_ref().map(|c| (i as u32, c)))
+    }
+
+    fn insert(&mut self, cert: PairCertificate) -> u32 {
+        let slot = match self.free.pop() {
+            Some(s) => s,
+            None => {
+                self.slots.push(None);
+                (self.slots.len() - 1) as u32
+            }
+        };
+        for o in [cert.a, cert.b] {
+            if self.of_object.len() <= o as usize {
+                self.of_object.resize(o as usize + 1, Vec::new());
+            }
+            self.of_object[o as usize].push(slot);
+        }
+        self.index.insert(pair_key(cert.a, cert.b), slot);
+        self.slots[slot as usize] = Some(cert);
+        self.live += 1;
+        slot
+    }
+
+    fn remove(&mut self, slot: u32) -> PairCertificate {
+        let cert = self.slots[slot as usize].take().expect("live slot");
+        for o in [cert.a, cert.b] {
+            let list = &mut self.of_object[o as usize];
+            if let Some(i) = list.iter().position(|&s| s == slot) {
+                list.swap_remove(i);
+            }
+        }
+        self.index.remove(&pair_key(cert.a, cert.b));
+        self.free.push(slot);
+        self.live -= 1;
+        cert
+    }
+}
+
+impl World {
+    /// The gap polynomial of a pair around the current time.
+    pub(crate) fn gap(&self, a: u32, b: u32) -> Poly {
+        let (pa, pb) = (self.plan_of(a), self.plan_of(b));
+        let (ra, rb) = (self.radius(a), self.radius(b));
+        let threshold2 = match self.kind {
+            WorldKind::Free => (ra + rb) * (ra + rb),
+            WorldKind::Plane => 4.0 * ra * rb,
+        };
+        ball_ball_gap(&pa.local_coefficients(self.now), &pb.local_coefficients(self.now), threshold2)
+    }
+
+    fn plan_of(&self, id: u32) -> crate::FlightPlan {
+        self.bodies[id as usize].as_ref().expect("live object").plan
+    }
+
+    pub(crate) fn apply_changes(&mut self, changes: &mut Vec<PairChange>) {
+        for ch in changes.drain(..) {
+            let (a, b) = (ch.a.min(ch.b), ch.a.max(ch.b));
+            match self.pairs.find(a, b) {
+                Some(slot) => {
+                    let cert = self.pairs.get_mut(slot);
+                    cert.refs = cert.refs.saturating_add_signed(ch.delta);
+                    if cert.refs == 0 {
+                        self.drop_pair(slot);
+                    }
+                }
+                None if ch.delta > 0 => self.new_pair(a, b, ch.delta as u32),
+                None => {}
+            }
+        }
+    }
+
+    /// A new candidate pair: its state now decides the events reported at once.
+    fn new_pair(&mut self, a: u32, b: u32, refs: u32) {
+        let f = self.gap(a, b);
+        let touching_now = f.c[0] <= 0.0;
+        let after = f.sign_just_after_zero();
+        let (walk, touching) = match self.response {
+            Response::None => {
+                if touching_now {
+                    self.log(a, b, ContactKind::Begin);
+                    if after > 0 {
+                        self.log(a, b, ContactKind::End);
+                    }
+                }
+                let touching = touching_now && after <= 0;
+                (Walk::contact(&f, self.now, touching), touching)
+            }
+            Response::Elastic => (Walk::elastic(&f, self.now), false),
+        };
+        let slot = self.pairs.insert(PairCertificate { a, b, refs, touching, walk });
+        self.schedule_pair(slot);
+    }
+
+    /// Recomputes a pair's certificate after one of its objects changed plan.
+    pub(crate) fn refresh_pair(&mut self, slot: u32) {
+        let (a, b) = {
+            let c = self.pairs.get(slot);
+            (c.a, c.b)
+        };
+        let f = self.gap(a, b);
+        let walk = match self.response {
+            Response::None => {
+                let was = self.pairs.get(slot).touching;
+                let now_touching = f.sign_just_after_zero() <= 0;
+                match (was, now_touching) {
+                    (true, false) => self.log(a, b, ContactKind::End),
+                    (false, true) => self.log(a, b, ContactKind::Begin),
+                    _ => {}
+                }
+                self.pairs.get_mut(slot).touching = now_touching;
+                Walk::contact(&f, self.now, now_touching)
+            }
+            Response::Elastic => Walk::elastic(&f, self.now),
+        };
+        self.pairs.get_mut(slot).walk = walk;
+        self.schedule_pair(slot);
+    }
+
+    pub(crate) fn schedule_pair(&mut self, slot: u32) {
+        let c = self.pairs.get(slot);
+        match c.walk.due {
+            Some((t, _, _)) => self.pair_queue.schedule(slot, t, pair_key(c.a, c.b)),
+            None => {
+                self.pair_queue.remove(slot);
+            }
+        }
+    }
+
+    pub(crate) fn drop_pair(&mut self, slot: u32) {
+        self.pair_queue.remove(slot);
+        self.pairs.remove(slot);
+    }
+
+    pub(crate) fn log(&mut self, a: u32, b: u32, kind: ContactKind) {
+        match kind {
+            ContactKind::Begin => self.stats.begins += 1,
+            ContactKind::End => self.stats.ends += 1,
+        }
+        self.events.push(ContactEvent {
+            time: self.now,
+            a: ObjectId(a.min(b)),
+            b: ObjectId(a.max(b)),
+            kind,
+        });
+    }
+}

@@ -1,0 +1,39 @@
+//! # kinetic-collide
+//!
+//! Exact collision detection for moving objects with kinetic data structures, after
+//! "Kinetic Collision Detection for Convex Fat Objects" (Abam, de Berg, Poon, Speckmann).
+//! Objects move along flight plans; certificates prove pairs apart, their failure times are
+//! computed from the plans, and failures are processed in time order, so every contact is
+//! found at its exact time, whatever the speeds.
+//!
+//! Build a world, add objects with flight plans, change a plan, advance, drain the events:
+//!
+//! ```
+//! use kinetic_collide::{ContactKind, FlightPlan, Vec3, World, WorldKind};
+//!
+//! let mut world = World::new(WorldKind::Free);
+//! let a = world.add_ball(0.5, FlightPlan::linear(Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0)))?;
+//! let b = world.add_ball(0.5, FlightPlan::at_rest(Vec3::new(4.0, 0.0, 0.0)))?;
+//! world.advance_to(2.0)?;
+//! // Push `b` away along +x from t = 2 on: only b's certificates are rescheduled.
+//! world.set_plan(b, FlightPlan::linear(Vec3::new(4.0, 0.0, 0.0), Vec3::new(0.5, 0.0, 0.0)).starting_at(2.0))?;
+//! world.advance_to(10.0)?;
+//! let events = world.drain_events();
+//! assert_eq!(events.len(), 2); // a catches b at t = 6 and passes through it
+//! assert_eq!((events[0].a, events[0].b, events[0].kind), (a, b, ContactKind::Begin));
+//! assert!((events[0].time - 6.0).abs() < 1e-12);
+//! world.remove(a)?;
+//! # Ok::<(), kinetic_collide::WorldError>(())
+//! ```
+//!
+//! Bad input gives a typed error ([`WorldError`], [`scene::SceneError`]) naming what is
+//! wrong; nothing panics on user data. Scene files and the command-line tool follow the scene
+//! format (see the README).
+#![warn(missing_docs)]
+#![forbid(unsafe_code)]
+
+pub mod run;
+pub mod scene;
+pub mod scenes;
+
+pub use kinetic_core::*;

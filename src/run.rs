@@ -1,0 +1,202 @@
+//! Running a scene: choose the structure, process events to the horizon, and write the event
+//! log and statistics exactly as the scene format says.
+
+use crate::scene::{Scene, ShapeSpec};
+use kinetic_core::{BruteForce, CandidateStructure, ContactEvent, ContactKind, Stats, World, WorldError, WorldKind};
+use std::fmt::Write as _;
+use std::time::Instant;
+
+/// The kinetic structures, by their command-line names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StructureName {
+    /// Collision tree with threshold boxes (Section 2), plane worlds.
+    RollingTree,
+    /// The rolling tree with two global sorted lists (the paper's second remark).
+    RollingGlobalLists,
+    /// Sweep over boxes of similar-size objects (Section 3.1).
+    Sweep,
+    /// Guards and cones for arbitrary sizes (Section 3.2).
+    Guards,
+    /// One certificate per pair: the exact reference.
+    BruteForce,
+}
+
+impl StructureName {
+    /// Every name, as written on the command line.
+    pub const ALL: [(&'static str, StructureName); 5] = [
+        ("rolling-tree", StructureName::RollingTree),
+        ("rolling-global-lists", StructureName::RollingGlobalLists),
+        ("sweep", StructureName::Sweep),
+        ("guards", StructureName::Guards),
+        ("brute-force", StructureName::BruteForce),
+    ];
+
+    /// Parses a command-line name.
+    pub fn parse(name: &str) -> Result<StructureName, RunError> {
+        Self::ALL
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, s)| *s)
+            .ok_or_else(|| {
+                let names: Vec<&str> = Self::ALL.iter().map(|(n, _)| *n).collect();
+                RunError::Input(format!("--structure: unknown structure {name:?} (expected one of: {})", names.join(", ")))
+            })
+    }
+
+    /// The command-line name.
+    pub fn as_str(self) -> &'static str {
+        Self::ALL.iter().find(|(_, s)| *s == self).map_or("?", |(n, _)| n)
+    }
+}
+
+/// Why a run could not be done.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// Bad input (scene or options): exit status 2, nothing written.
+    #[error("{0}")]
+    Input(String),
+    /// The run stopped part-way (for instance a Zeno configuration); what was computed up
+    /// to then is kept.
+    #[error("run stopped at t = {time}: {source}")]
+    Stopped {
+        /// The time reached.
+        time: f64,
+        /// Why.
+        source: WorldError,
+        /// The events and statistics computed up to then.
+        partial: Box<RunOutput>,
+    },
+}
+
+/// What a run produced.
+#[derive(Clone, Debug)]
+pub struct RunOutput {
+    /// The structure used.
+    pub structure: StructureName,
+    /// Number of objects.
+    pub objects: usize,
+    /// The horizon.
+    pub horizon: f64,
+    /// Contact events in log order.
+    pub events: Vec<ContactEvent>,
+    /// Run statistics.
+    pub stats: Stats,
+    /// Wall-clock seconds of the detection (excluding parsing and writing).
+    pub wall_seconds: f64,
+}
+
+/// The structure a scene gets when none is named: the lightest one that is exact for it.
+/// Until the rolling and free-flight modules land, that is the brute force everywhere.
+pub fn choose_structure(_scene: &Scene) -> StructureName {
+    StructureName::BruteForce
+}
+
+fn make_structure(scene: &Scene, name: StructureName) -> Result<Box<dyn CandidateStructure>, RunError> {
+    match name {
+        StructureName::BruteForce => Ok(Box::new(BruteForce::new())),
+        StructureName::RollingTree | StructureName::RollingGlobalLists if scene.world == WorldKind::Free => Err(
+            RunError::Input(format!("--structure {}: applies to \"plane\" worlds only", name.as_str())),
+        ),
+        StructureName::Sweep | StructureName::Guards if scene.world == WorldKind::Plane => Err(RunError::Input(
+            format!("--structure {}: applies to \"free\" worlds only", name.as_str()),
+        )),
+        _ => Err(RunError::Input(format!("--structure {}: not supported yet (use brute-force)", name.as_str()))),
+    }
+}
+
+/// Runs `scene` to its horizon with the named structure (or the chosen one).
+pub fn run_scene(scene: &Scene, structure: Option<StructureName>) -> Result<RunOutput, RunError> {
+    if let Some((i, _)) = scene.objects.iter().enumerate().find(|(_, o)| !matches!(o.shape, ShapeSpec::Ball { .. })) {
+        return Err(RunError::Input(format!(
+            "objects[{i}].shape: cuboids and convex hulls are not supported yet (they come with the free-flight module)"
+        )));
+    }
+    let name = structure.unwrap_or_else(|| choose_structure(scene));
+    let mut world = World::with_structure(scene.world, scene.response, scene.walls, make_structure(scene, name)?)
+        .map_err(|e| RunError::Input(format!("walls: {e}")))?;
+    let start = Instant::now();
+    for (i, o) in scene.objects.iter().enumerate() {
+        let ShapeSpec::Ball { radius } = o.shape else { unreachable!("checked above") };
+        world
+            .add_ball(radius, o.plan())
+            .map_err(|e| RunError::Input(format!("objects[{i}]: {e}")))?;
+    }
+    let result = world.advance_to(scene.horizon);
+    let output = RunOutput {
+        structure: name,
+        objects: scene.objects.len(),
+        horizon: scene.horizon,
+        events: world.drain_events(),
+        stats: world.stats().clone(),
+        wall_seconds: start.elapsed().as_secs_f64(),
+    };
+    match result {
+        Ok(()) => Ok(output),
+        Err(source) => Err(RunError::Stopped {
+            time: world.now(),
+            source,
+            partial: Box::new(output),
+        }),
+    }
+}
+
+impl RunOutput {
+    /// The event log as JSON Lines, exactly as the scene format shows it.
+    pub fn event_log(&self) -> String {
+        let mut out = String::with_capacity(self.events.len() * 56);
+        for e in &self.events {
+            let kind = match e.kind {
+                ContactKind::Begin => "begin",
+                ContactKind::End => "end",
+            };
+            // `+ 0.0` turns a -0.0 into 0.0.
+            let _ = writeln!(out, "{{\"t\": {:.10}, \"a\": {}, \"b\": {}, \"kind\": \"{kind}\"}}", e.time + 0.0, e.a.0, e.b.0);
+        }
+        out
+    }
+
+    /// The statistics as JSON. `wall_seconds` is the only part that differs between runs.
+    pub fn stats_json(&self) -> String {
+        let s = &self.stats;
+        let value = serde_json::json!({
+            "structure": self.structure.as_str(),
+            "objects": self.objects,
+            "horizon": self.horizon,
+            "events": {"total": s.events_total(), "by_kind": s.events_by_kind},
+            "certificates": {"max": s.certificates_max, "mean": s.certificates_mean()},
+            "candidate_pairs": {"max": s.candidate_pairs_max, "mean": s.candidate_pairs_mean()},
+            "contacts": {"begin": s.begins, "end": s.ends},
+            "bounces": s.bounces,
+            "wall_seconds": self.wall_seconds,
+        });
+        let mut text = serde_json::to_string_pretty(&value).unwrap_or_default();
+        text.push('\n');
+        text
+    }
+
+    /// A one-line summary for people.
+    pub fn summary(&self) -> String {
+        format!(
+            "structure {}: {} objects, {} events, {} contacts begun, {} ended, {} bounces, {:.3} s",
+            self.structure.as_str(),
+            self.objects,
+            self.stats.events_total(),
+            self.stats.begins,
+            self.stats.ends,
+            self.stats.bounces,
+            self.wall_seconds
+        )
+    }
+}
+
+/// Writes `text` to `path` whole or not at all (through a temporary file and a rename).
+pub fn write_whole(path: &std::path::Path, text: &str) -> std::io::Result<()> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)?;
+    }
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".partial");
+    let tmp = std::path::PathBuf::from(tmp);
+    std::fs::write(&tmp, text)?;
+    std::fs::rename(&tmp, path)
+}
