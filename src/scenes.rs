@@ -63,7 +63,7 @@ impl BallScene {
             n,
             r_min: 0.5,
             r_max: 0.5,
-            side: 8.0 * (n as f64).cbrt(),
+            side: 3.0 * (n as f64).cbrt(),
             speed: 1.0,
             acceleration: 0.0,
             world: WorldKind::Free,

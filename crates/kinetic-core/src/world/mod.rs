@@ -245,7 +245,7 @@ impl World {
                 return Err(WorldError::InvalidWalls);
             }
         }
-        let mut world = World {
+        let world = World {
             kind,
             response,
             walls,
