@@ -47,9 +47,17 @@ fn main() -> ExitCode {
     };
     let result = match cli.command {
         None => default_scene(),
-        Some(Command::Run { scene, events, stats, structure }) => {
-            run_file(&scene, events.as_deref(), stats.as_deref(), structure.as_deref())
-        }
+        Some(Command::Run {
+            scene,
+            events,
+            stats,
+            structure,
+        }) => run_file(
+            &scene,
+            events.as_deref(),
+            stats.as_deref(),
+            structure.as_deref(),
+        ),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -62,14 +70,30 @@ fn main() -> ExitCode {
 
 type Failure = (u8, String);
 
-fn run_file(path: &Path, events: Option<&Path>, stats: Option<&Path>, structure: Option<&str>) -> Result<(), Failure> {
-    let structure = structure.map(StructureName::parse).transpose().map_err(|e| (2, e.to_string()))?;
-    let text = std::fs::read_to_string(path).map_err(|e| (2, format!("{}: cannot read: {e}", path.display())))?;
+fn run_file(
+    path: &Path,
+    events: Option<&Path>,
+    stats: Option<&Path>,
+    structure: Option<&str>,
+) -> Result<(), Failure> {
+    let structure = structure
+        .map(StructureName::parse)
+        .transpose()
+        .map_err(|e| (2, e.to_string()))?;
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| (2, format!("{}: cannot read: {e}", path.display())))?;
     let scene = Scene::from_json(&text).map_err(|e| (2, format!("{}: {e}", path.display())))?;
     let (output, stopped) = match run_scene(&scene, structure) {
         Ok(out) => (out, None),
         Err(RunError::Input(msg)) => return Err((2, format!("{}: {msg}", path.display()))),
-        Err(RunError::Stopped { time, source, partial }) => (*partial, Some(format!("run stopped at t = {time}: {source}"))),
+        Err(RunError::Stopped {
+            time,
+            source,
+            partial,
+        }) => (
+            *partial,
+            Some(format!("run stopped at t = {time}: {source}")),
+        ),
     };
     write_outputs(&output, events, stats)?;
     eprintln!("{}", output.summary());
@@ -79,7 +103,11 @@ fn run_file(path: &Path, events: Option<&Path>, stats: Option<&Path>, structure:
     }
 }
 
-fn write_outputs(output: &RunOutput, events: Option<&Path>, stats: Option<&Path>) -> Result<(), Failure> {
+fn write_outputs(
+    output: &RunOutput,
+    events: Option<&Path>,
+    stats: Option<&Path>,
+) -> Result<(), Failure> {
     let io = |p: &Path, e: std::io::Error| (1, format!("{}: cannot write: {e}", p.display()));
     match events {
         Some(p) => write_whole(p, &output.event_log()).map_err(|e| io(p, e))?,

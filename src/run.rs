@@ -2,7 +2,9 @@
 //! log and statistics exactly as the scene format says.
 
 use crate::scene::{Scene, ShapeSpec};
-use kinetic_core::{BruteForce, CandidateStructure, ContactEvent, ContactKind, Stats, World, WorldError, WorldKind};
+use kinetic_core::{
+    BruteForce, CandidateStructure, ContactEvent, ContactKind, Stats, World, WorldError, WorldKind,
+};
 use std::fmt::Write as _;
 use std::time::Instant;
 
@@ -39,13 +41,19 @@ impl StructureName {
             .map(|(_, s)| *s)
             .ok_or_else(|| {
                 let names: Vec<&str> = Self::ALL.iter().map(|(n, _)| *n).collect();
-                RunError::Input(format!("--structure: unknown structure {name:?} (expected one of: {})", names.join(", ")))
+                RunError::Input(format!(
+                    "--structure: unknown structure {name:?} (expected one of: {})",
+                    names.join(", ")
+                ))
             })
     }
 
     /// The command-line name.
     pub fn as_str(self) -> &'static str {
-        Self::ALL.iter().find(|(_, s)| *s == self).map_or("?", |(n, _)| n)
+        Self::ALL
+            .iter()
+            .find(|(_, s)| *s == self)
+            .map_or("?", |(n, _)| n)
     }
 }
 
@@ -91,32 +99,58 @@ pub fn choose_structure(_scene: &Scene) -> StructureName {
     StructureName::BruteForce
 }
 
-fn make_structure(scene: &Scene, name: StructureName) -> Result<Box<dyn CandidateStructure>, RunError> {
+fn make_structure(
+    scene: &Scene,
+    name: StructureName,
+) -> Result<Box<dyn CandidateStructure>, RunError> {
     match name {
         StructureName::BruteForce => Ok(Box::new(BruteForce::new())),
-        StructureName::RollingTree | StructureName::RollingGlobalLists if scene.world == WorldKind::Free => Err(
-            RunError::Input(format!("--structure {}: applies to \"plane\" worlds only", name.as_str())),
-        ),
-        StructureName::Sweep | StructureName::Guards if scene.world == WorldKind::Plane => Err(RunError::Input(
-            format!("--structure {}: applies to \"free\" worlds only", name.as_str()),
-        )),
-        _ => Err(RunError::Input(format!("--structure {}: not supported yet (use brute-force)", name.as_str()))),
+        StructureName::RollingTree | StructureName::RollingGlobalLists
+            if scene.world == WorldKind::Free =>
+        {
+            Err(RunError::Input(format!(
+                "--structure {}: applies to \"plane\" worlds only",
+                name.as_str()
+            )))
+        }
+        StructureName::Sweep | StructureName::Guards if scene.world == WorldKind::Plane => {
+            Err(RunError::Input(format!(
+                "--structure {}: applies to \"free\" worlds only",
+                name.as_str()
+            )))
+        }
+        _ => Err(RunError::Input(format!(
+            "--structure {}: not supported yet (use brute-force)",
+            name.as_str()
+        ))),
     }
 }
 
 /// Runs `scene` to its horizon with the named structure (or the chosen one).
 pub fn run_scene(scene: &Scene, structure: Option<StructureName>) -> Result<RunOutput, RunError> {
-    if let Some((i, _)) = scene.objects.iter().enumerate().find(|(_, o)| !matches!(o.shape, ShapeSpec::Ball { .. })) {
+    if let Some((i, _)) = scene
+        .objects
+        .iter()
+        .enumerate()
+        .find(|(_, o)| !matches!(o.shape, ShapeSpec::Ball { .. }))
+    {
         return Err(RunError::Input(format!(
             "objects[{i}].shape: cuboids and convex hulls are not supported yet (they come with the free-flight module)"
         )));
     }
     let name = structure.unwrap_or_else(|| choose_structure(scene));
-    let mut world = World::with_structure(scene.world, scene.response, scene.walls, make_structure(scene, name)?)
-        .map_err(|e| RunError::Input(format!("walls: {e}")))?;
+    let mut world = World::with_structure(
+        scene.world,
+        scene.response,
+        scene.walls,
+        make_structure(scene, name)?,
+    )
+    .map_err(|e| RunError::Input(format!("walls: {e}")))?;
     let start = Instant::now();
     for (i, o) in scene.objects.iter().enumerate() {
-        let ShapeSpec::Ball { radius } = o.shape else { unreachable!("checked above") };
+        let ShapeSpec::Ball { radius } = o.shape else {
+            unreachable!("checked above")
+        };
         world
             .add_ball(radius, o.plan())
             .map_err(|e| RunError::Input(format!("objects[{i}]: {e}")))?;
@@ -150,7 +184,13 @@ impl RunOutput {
                 ContactKind::End => "end",
             };
             // `+ 0.0` turns a -0.0 into 0.0.
-            let _ = writeln!(out, "{{\"t\": {:.10}, \"a\": {}, \"b\": {}, \"kind\": \"{kind}\"}}", e.time + 0.0, e.a.0, e.b.0);
+            let _ = writeln!(
+                out,
+                "{{\"t\": {:.10}, \"a\": {}, \"b\": {}, \"kind\": \"{kind}\"}}",
+                e.time + 0.0,
+                e.a.0,
+                e.b.0
+            );
         }
         out
     }

@@ -114,25 +114,45 @@ impl Scene {
             )
         })?;
         let top = object(&value, "scene")?;
-        only_keys(top, "", &["world", "horizon", "response", "walls", "objects"])?;
+        only_keys(
+            top,
+            "",
+            &["world", "horizon", "response", "walls", "objects"],
+        )?;
         let world = match string(required(top, "", "world")?, "world")? {
             "free" => WorldKind::Free,
             "plane" => WorldKind::Plane,
-            other => return Err(SceneError::new("world", format!("must be \"free\" or \"plane\", got {other:?}"))),
+            other => {
+                return Err(SceneError::new(
+                    "world",
+                    format!("must be \"free\" or \"plane\", got {other:?}"),
+                ));
+            }
         };
         let horizon = number(required(top, "", "horizon")?, "horizon")?;
         if horizon <= 0.0 {
-            return Err(SceneError::new("horizon", format!("must be > 0, got {horizon}")));
+            return Err(SceneError::new(
+                "horizon",
+                format!("must be > 0, got {horizon}"),
+            ));
         }
         let response = match top.get("response") {
             None => Response::None,
             Some(v) => match string(v, "response")? {
                 "none" => Response::None,
                 "elastic" => Response::Elastic,
-                other => return Err(SceneError::new("response", format!("must be \"none\" or \"elastic\", got {other:?}"))),
+                other => {
+                    return Err(SceneError::new(
+                        "response",
+                        format!("must be \"none\" or \"elastic\", got {other:?}"),
+                    ));
+                }
             },
         };
-        let walls = top.get("walls").map(|v| parse_walls(v, world)).transpose()?;
+        let walls = top
+            .get("walls")
+            .map(|v| parse_walls(v, world))
+            .transpose()?;
         let list = required(top, "", "objects")?
             .as_array()
             .ok_or_else(|| SceneError::new("objects", "must be an array"))?;
@@ -185,17 +205,26 @@ impl Scene {
             })
             .collect();
         let mut top = Map::new();
-        top.insert("world".into(), match self.world {
-            WorldKind::Free => "free".into(),
-            WorldKind::Plane => "plane".into(),
-        });
+        top.insert(
+            "world".into(),
+            match self.world {
+                WorldKind::Free => "free".into(),
+                WorldKind::Plane => "plane".into(),
+            },
+        );
         top.insert("horizon".into(), self.horizon.into());
-        top.insert("response".into(), match self.response {
-            Response::None => "none".into(),
-            Response::Elastic => "elastic".into(),
-        });
+        top.insert(
+            "response".into(),
+            match self.response {
+                Response::None => "none".into(),
+                Response::Elastic => "elastic".into(),
+            },
+        );
         if let Some(w) = self.walls {
-            top.insert("walls".into(), serde_json::json!({"min": v3(w.min), "max": v3(w.max)}));
+            top.insert(
+                "walls".into(),
+                serde_json::json!({"min": v3(w.min), "max": v3(w.max)}),
+            );
         }
         top.insert("objects".into(), Value::Array(objects));
         let mut text = serde_json::to_string_pretty(&Value::Object(top)).unwrap_or_default();
@@ -206,7 +235,9 @@ impl Scene {
     /// The largest ratio between two objects' outer radii (1 for fewer than two objects).
     pub fn size_ratio(&self) -> f64 {
         let radii = self.objects.iter().map(|o| outer_radius(&o.shape));
-        let (lo, hi) = radii.fold((f64::INFINITY, 0.0f64), |(lo, hi), r| (lo.min(r), hi.max(r)));
+        let (lo, hi) = radii.fold((f64::INFINITY, 0.0f64), |(lo, hi), r| {
+            (lo.min(r), hi.max(r))
+        });
         if self.objects.len() < 2 { 1.0 } else { hi / lo }
     }
 }
@@ -221,33 +252,46 @@ pub fn outer_radius(shape: &ShapeSpec) -> f64 {
 }
 
 fn object<'a>(v: &'a Value, path: &str) -> Result<&'a Map<String, Value>> {
-    v.as_object().ok_or_else(|| SceneError::new(path, "must be a JSON object"))
+    v.as_object()
+        .ok_or_else(|| SceneError::new(path, "must be a JSON object"))
 }
 
 fn join(path: &str, key: &str) -> String {
-    if path.is_empty() { key.to_string() } else { format!("{path}.{key}") }
+    if path.is_empty() {
+        key.to_string()
+    } else {
+        format!("{path}.{key}")
+    }
 }
 
 fn only_keys(m: &Map<String, Value>, path: &str, allowed: &[&str]) -> Result<()> {
     match m.keys().find(|k| !allowed.contains(&k.as_str())) {
-        Some(k) => Err(SceneError::new(join(path, k), format!("unknown field (expected one of: {})", allowed.join(", ")))),
+        Some(k) => Err(SceneError::new(
+            join(path, k),
+            format!("unknown field (expected one of: {})", allowed.join(", ")),
+        )),
         None => Ok(()),
     }
 }
 
 fn required<'a>(m: &'a Map<String, Value>, path: &str, key: &str) -> Result<&'a Value> {
-    m.get(key).ok_or_else(|| SceneError::new(join(path, key), "missing required field"))
+    m.get(key)
+        .ok_or_else(|| SceneError::new(join(path, key), "missing required field"))
 }
 
 fn string<'a>(v: &'a Value, path: &str) -> Result<&'a str> {
-    v.as_str().ok_or_else(|| SceneError::new(path, "must be a string"))
+    v.as_str()
+        .ok_or_else(|| SceneError::new(path, "must be a string"))
 }
 
 fn number(v: &Value, path: &str) -> Result<f64> {
     match v {
         Value::Number(n) => match n.as_f64() {
             Some(x) if x.is_finite() => Ok(x),
-            _ => Err(SceneError::new(path, format!("must be a finite number, got {n}"))),
+            _ => Err(SceneError::new(
+                path,
+                format!("must be a finite number, got {n}"),
+            )),
         },
         _ => Err(SceneError::new(path, "must be a number")),
     }
@@ -270,7 +314,8 @@ fn vec3(v: &Value, path: &str) -> Result<DVec3> {
 }
 
 fn optional_vec3(m: &Map<String, Value>, path: &str, key: &str) -> Result<DVec3> {
-    m.get(key).map_or(Ok(DVec3::ZERO), |v| vec3(v, &join(path, key)))
+    m.get(key)
+        .map_or(Ok(DVec3::ZERO), |v| vec3(v, &join(path, key)))
 }
 
 fn parse_walls(v: &Value, world: WorldKind) -> Result<Walls> {
@@ -280,14 +325,31 @@ fn parse_walls(v: &Value, world: WorldKind) -> Result<Walls> {
     let max = vec3(required(m, "walls", "max")?, "walls.max")?;
     let dims = if world == WorldKind::Plane { 2 } else { 3 };
     if let Some(k) = (0..dims).find(|&k| min[k] >= max[k]) {
-        return Err(SceneError::new(format!("walls.max[{k}]"), format!("must be greater than walls.min[{k}] ({} <= {})", max[k], min[k])));
+        return Err(SceneError::new(
+            format!("walls.max[{k}]"),
+            format!(
+                "must be greater than walls.min[{k}] ({} <= {})",
+                max[k], min[k]
+            ),
+        ));
     }
     Ok(Walls { min, max })
 }
 
 fn parse_object(v: &Value, path: &str) -> Result<SceneObject> {
     let m = object(v, path)?;
-    only_keys(m, path, &["shape", "position", "velocity", "acceleration", "orientation", "angular_velocity"])?;
+    only_keys(
+        m,
+        path,
+        &[
+            "shape",
+            "position",
+            "velocity",
+            "acceleration",
+            "orientation",
+            "angular_velocity",
+        ],
+    )?;
     let shape = parse_shape(required(m, path, "shape")?, &join(path, "shape"))?;
     let position = vec3(required(m, path, "position")?, &join(path, "position"))?;
     let orientation = match m.get("orientation") {
@@ -296,7 +358,13 @@ fn parse_object(v: &Value, path: &str) -> Result<SceneObject> {
             let p = join(path, "orientation");
             let q = DQuat::from_array(numbers::<4>(v, &p)?);
             if (q.length() - 1.0).abs() > 1e-6 {
-                return Err(SceneError::new(p, format!("must be a unit quaternion [x, y, z, w], its norm is {}", q.length())));
+                return Err(SceneError::new(
+                    p,
+                    format!(
+                        "must be a unit quaternion [x, y, z, w], its norm is {}",
+                        q.length()
+                    ),
+                ));
             }
             q.normalize()
         }
@@ -315,20 +383,29 @@ fn parse_shape(v: &Value, path: &str) -> Result<ShapeSpec> {
     let m = object(v, path)?;
     only_keys(m, path, &["ball", "cuboid", "convex_hull"])?;
     if m.len() != 1 {
-        return Err(SceneError::new(path, "must hold exactly one of ball, cuboid, convex_hull"));
+        return Err(SceneError::new(
+            path,
+            "must hold exactly one of ball, cuboid, convex_hull",
+        ));
     }
     let (kind, body) = m.iter().next().expect("one entry");
     let p = join(path, kind);
     let inner = object(body, &p)?;
     let positive = |x: f64, at: &str| {
-        if x > 0.0 { Ok(x) } else { Err(SceneError::new(at, format!("must be > 0, got {x}"))) }
+        if x > 0.0 {
+            Ok(x)
+        } else {
+            Err(SceneError::new(at, format!("must be > 0, got {x}")))
+        }
     };
     match kind.as_str() {
         "ball" => {
             only_keys(inner, &p, &["radius"])?;
             let at = join(&p, "radius");
             let r = number(required(inner, &p, "radius")?, &at)?;
-            Ok(ShapeSpec::Ball { radius: positive(r, &at)? })
+            Ok(ShapeSpec::Ball {
+                radius: positive(r, &at)?,
+            })
         }
         "cuboid" => {
             only_keys(inner, &p, &["half_extents"])?;
@@ -346,7 +423,10 @@ fn parse_shape(v: &Value, path: &str) -> Result<ShapeSpec> {
                 .as_array()
                 .ok_or_else(|| SceneError::new(&at, "must be an array of [x, y, z] points"))?;
             if list.len() < 4 {
-                return Err(SceneError::new(&at, format!("needs at least 4 points, got {}", list.len())));
+                return Err(SceneError::new(
+                    &at,
+                    format!("needs at least 4 points, got {}", list.len()),
+                ));
             }
             let points = list
                 .iter()
@@ -354,7 +434,10 @@ fn parse_shape(v: &Value, path: &str) -> Result<ShapeSpec> {
                 .map(|(i, v)| vec3(v, &format!("{at}[{i}]")))
                 .collect::<Result<Vec<_>>>()?;
             if is_flat(&points) {
-                return Err(SceneError::new(&at, "the points are coplanar (the hull is flat or degenerate)"));
+                return Err(SceneError::new(
+                    &at,
+                    "the points are coplanar (the hull is flat or degenerate)",
+                ));
             }
             Ok(ShapeSpec::ConvexHull { points })
         }
@@ -364,26 +447,50 @@ fn parse_shape(v: &Value, path: &str) -> Result<ShapeSpec> {
 /// Whether all points lie (up to rounding) in one plane.
 fn is_flat(points: &[DVec3]) -> bool {
     let p0 = points[0];
-    let scale = points.iter().map(|p| (*p - p0).length()).fold(0.0, f64::max);
+    let scale = points
+        .iter()
+        .map(|p| (*p - p0).length())
+        .fold(0.0, f64::max);
     if scale == 0.0 {
         return true;
     }
-    let far = |f: &dyn Fn(DVec3) -> f64| points.iter().copied().max_by(|a, b| f(*a).total_cmp(&f(*b))).unwrap_or(p0);
+    let far = |f: &dyn Fn(DVec3) -> f64| {
+        points
+            .iter()
+            .copied()
+            .max_by(|a, b| f(*a).total_cmp(&f(*b)))
+            .unwrap_or(p0)
+    };
     let p1 = far(&|p| (p - p0).length());
     let p2 = far(&|p| (p - p0).cross(p1 - p0).length());
     let n = (p1 - p0).cross(p2 - p0);
-    let volume = points.iter().map(|p| (*p - p0).dot(n).abs()).fold(0.0, f64::max);
+    let volume = points
+        .iter()
+        .map(|p| (*p - p0).dot(n).abs())
+        .fold(0.0, f64::max);
     volume <= 1e-12 * scale * scale * scale
 }
 
-fn check_object(o: &SceneObject, i: usize, world: WorldKind, response: Response, walls: Option<&Walls>) -> Result<()> {
+fn check_object(
+    o: &SceneObject,
+    i: usize,
+    world: WorldKind,
+    response: Response,
+    walls: Option<&Walls>,
+) -> Result<()> {
     let path = format!("objects[{i}]");
     let ShapeSpec::Ball { radius } = o.shape else {
         if world == WorldKind::Plane {
-            return Err(SceneError::new(format!("{path}.shape"), "a \"plane\" world holds balls only"));
+            return Err(SceneError::new(
+                format!("{path}.shape"),
+                "a \"plane\" world holds balls only",
+            ));
         }
         if response == Response::Elastic {
-            return Err(SceneError::new(format!("{path}.shape"), "the \"elastic\" response applies to balls only"));
+            return Err(SceneError::new(
+                format!("{path}.shape"),
+                "the \"elastic\" response applies to balls only",
+            ));
         }
         return Ok(());
     };
@@ -392,7 +499,10 @@ fn check_object(o: &SceneObject, i: usize, world: WorldKind, response: Response,
         for k in 0..dims {
             let p = o.position[k];
             if p - radius < w.min[k] || p + radius > w.max[k] {
-                return Err(SceneError::new(format!("{path}.position[{k}]"), format!("the ball (radius {radius}) starts outside the walls")));
+                return Err(SceneError::new(
+                    format!("{path}.position[{k}]"),
+                    format!("the ball (radius {radius}) starts outside the walls"),
+                ));
             }
         }
     }

@@ -84,7 +84,11 @@ impl BallScene {
         let mut attempts = 0usize;
         while objects.len() < self.n {
             attempts += 1;
-            let r = if ln_hi > ln_lo { rng.random_range(ln_lo..ln_hi).exp() } else { self.r_min };
+            let r = if ln_hi > ln_lo {
+                rng.random_range(ln_lo..ln_hi).exp()
+            } else {
+                self.r_min
+            };
             let mut p = DVec3::ZERO;
             for k in 0..dims {
                 p[k] = rng.random_range(r..(self.side - r).max(r * 1.000001));
@@ -98,7 +102,9 @@ impl BallScene {
             let v = v.normalize_or_zero() * self.speed * rng.random_range(0.0..1.0f64).sqrt();
             let a = a.normalize_or_zero() * self.acceleration;
             let apart = |o: &SceneObject| {
-                let crate::scene::ShapeSpec::Ball { radius } = o.shape else { return true };
+                let crate::scene::ShapeSpec::Ball { radius } = o.shape else {
+                    return true;
+                };
                 let d2 = (o.position - p).length_squared();
                 match self.world {
                     WorldKind::Plane => d2 > 4.0 * radius * r,

@@ -9,7 +9,8 @@ fn tool() -> Command {
 }
 
 fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("kinetic-collide-cli-{}-{name}", std::process::id()));
+    let dir =
+        std::env::temp_dir().join(format!("kinetic-collide-cli-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
@@ -40,7 +41,8 @@ fn run(dir: &Path, scene: &str, extra: &[&str]) -> (i32, String, Option<String>,
     )
 }
 
-const BALL: &str = r#"{"shape": {"ball": {"radius": 0.5}}, "position": [0, 0, 0], "velocity": [1, 0, 0]}"#;
+const BALL: &str =
+    r#"{"shape": {"ball": {"radius": 0.5}}, "position": [0, 0, 0], "velocity": [1, 0, 0]}"#;
 
 fn scene_with(top: &str, objects: &[&str]) -> String {
     format!("{{{top}, \"objects\": [{}]}}", objects.join(", "))
@@ -94,7 +96,10 @@ fn elastic_plane_scene_with_walls() {
     assert_eq!(status, 0, "{err}");
     // Ball 0 hits ball 1 at t = 3; ball 1 moves on, bounces off x = 9 at t = 7, meets ball 0
     // (at rest, centre 3) when its tangency point is at 5: t = 7 + 4 = 11 > horizon.
-    assert_eq!(events.unwrap(), "{\"t\": 3.0000000000, \"a\": 0, \"b\": 1, \"kind\": \"begin\"}\n");
+    assert_eq!(
+        events.unwrap(),
+        "{\"t\": 3.0000000000, \"a\": 0, \"b\": 1, \"kind\": \"begin\"}\n"
+    );
     let stats: serde_json::Value = serde_json::from_str(&stats.unwrap()).unwrap();
     assert_eq!(stats["bounces"], 1);
 }
@@ -104,45 +109,217 @@ fn every_error_case_names_the_field_and_writes_nothing() {
     let free = r#""world": "free", "horizon": 10.0"#;
     let cases: Vec<(String, &str)> = vec![
         ("not json".into(), "not valid JSON"),
-        (scene_with(r#""world": "free", "horizon": 10.0, "gravity": 1"#, &[BALL]), "gravity: unknown field"),
+        (
+            scene_with(r#""world": "free", "horizon": 10.0, "gravity": 1"#, &[BALL]),
+            "gravity: unknown field",
+        ),
         (r#"{"horizon": 1, "objects": []}"#.into(), "world: missing"),
-        (r#"{"world": "free", "objects": []}"#.into(), "horizon: missing"),
-        (r#"{"world": "free", "horizon": 1}"#.into(), "objects: missing"),
-        (scene_with(r#""world": "space", "horizon": 1"#, &[]), "world: must be"),
-        (scene_with(r#""world": "free", "horizon": 0"#, &[]), "horizon: must be > 0"),
-        (scene_with(r#""world": "free", "horizon": -1"#, &[]), "horizon: must be > 0"),
-        (scene_with(r#""world": "free", "horizon": 1e999"#, &[]), "horizon: must be a finite number"),
-        (scene_with(r#""world": "free", "horizon": "10""#, &[]), "horizon: must be a number"),
-        (scene_with(r#""world": "free", "horizon": 1, "response": "sticky""#, &[]), "response: must be"),
-        (scene_with(free, &[BALL, r#"{"shape": {"ball": {"radius": 0.5}}, "position": [0, 0, 0], "spin": 1}"#]), "objects[1].spin: unknown field"),
-        (scene_with(free, &[r#"{"position": [0, 0, 0]}"#]), "objects[0].shape: missing"),
-        (scene_with(free, &[r#"{"shape": {"ball": {"radius": 1}}}"#]), "objects[0].position: missing"),
-        (scene_with(free, &[r#"{"shape": {"ball": {"radius": 1}}, "position": [0, 0]}"#]), "objects[0].position: must be an array of 3"),
-        (scene_with(free, &[BALL, r#"{"shape": {"ball": {"radius": 1}}, "position": [0, 0, 1e999]}"#]), "objects[1].position[2]: must be a finite number"),
-        (scene_with(free, &[r#"{"shape": {"ball": {"radius": 1}}, "position": [0, 0, 0], "velocity": [0, null, 0]}"#]), "objects[0].velocity[1]: must be a number"),
-        (scene_with(free, &[r#"{"shape": {"ball": {"radius": 0}}, "position": [0, 0, 0]}"#]), "objects[0].shape.ball.radius: must be > 0"),
-        (scene_with(free, &[r#"{"shape": {"ball": {"radius": -2}}, "position": [0, 0, 0]}"#]), "objects[0].shape.ball.radius: must be > 0"),
-        (scene_with(free, &[r#"{"shape": {"ball": {}}, "position": [0, 0, 0]}"#]), "objects[0].shape.ball.radius: missing"),
-        (scene_with(free, &[r#"{"shape": {"cuboid": {"half_extents": [1, 0, 1]}}, "position": [0, 0, 0]}"#]), "objects[0].shape.cuboid.half_extents[1]: must be > 0"),
-        (scene_with(free, &[r#"{"shape": {"convex_hull": {"points": [[0,0,0],[1,0,0],[0,1,0]]}}, "position": [0, 0, 0]}"#]), "objects[0].shape.convex_hull.points: needs at least 4"),
-        (scene_with(free, &[r#"{"shape": {"convex_hull": {"points": [[0,0,0],[1,0,0],[0,1,0],[1,1,0]]}}, "position": [0, 0, 0]}"#]), "objects[0].shape.convex_hull.points: the points are coplanar"),
-        (scene_with(free, &[r#"{"shape": {"ball": {"radius": 1}, "cuboid": {"half_extents": [1, 1, 1]}}, "position": [0, 0, 0]}"#]), "objects[0].shape: must hold exactly one"),
-        (scene_with(free, &[r#"{"shape": {"sphere": {"radius": 1}}, "position": [0, 0, 0]}"#]), "objects[0].shape.sphere: unknown field"),
-        (scene_with(free, &[r#"{"shape": {"ball": {"radius": 1}}, "position": [0, 0, 0], "orientation": [0, 0, 0, 2]}"#]), "objects[0].orientation: must be a unit quaternion"),
-        (scene_with(r#""world": "plane", "horizon": 1"#, &[BALL, r#"{"shape": {"cuboid": {"half_extents": [1, 1, 1]}}, "position": [0, 0, 0]}"#]), "objects[1].shape: a \"plane\" world holds balls only"),
-        (scene_with(r#""world": "free", "horizon": 1, "response": "elastic""#, &[r#"{"shape": {"cuboid": {"half_extents": [1, 1, 1]}}, "position": [0, 0, 0]}"#]), "objects[0].shape: the \"elastic\" response applies to balls only"),
-        (scene_with(r#""world": "free", "horizon": 1, "walls": {"min": [0, 0, 0], "max": [1, 0, 1]}"#, &[]), "walls.max[1]: must be greater"),
-        (scene_with(r#""world": "free", "horizon": 1, "walls": {"min": [0, 0, 0]}"#, &[]), "walls.max: missing"),
-        (scene_with(r#""world": "free", "horizon": 1, "response": "elastic", "walls": {"min": [0, 0, 0], "max": [10, 10, 10]}"#, &[r#"{"shape": {"ball": {"radius": 1}}, "position": [5, 5, 9.5]}"#]), "objects[0].position[2]: the ball (radius 1) starts outside the walls"),
-        (scene_with(free, &[r#"{"shape": {"cuboid": {"half_extents": [1, 1, 1]}}, "position": [0, 0, 0]}"#]), "objects[0].shape: cuboids and convex hulls are not supported yet"),
+        (
+            r#"{"world": "free", "objects": []}"#.into(),
+            "horizon: missing",
+        ),
+        (
+            r#"{"world": "free", "horizon": 1}"#.into(),
+            "objects: missing",
+        ),
+        (
+            scene_with(r#""world": "space", "horizon": 1"#, &[]),
+            "world: must be",
+        ),
+        (
+            scene_with(r#""world": "free", "horizon": 0"#, &[]),
+            "horizon: must be > 0",
+        ),
+        (
+            scene_with(r#""world": "free", "horizon": -1"#, &[]),
+            "horizon: must be > 0",
+        ),
+        (
+            scene_with(r#""world": "free", "horizon": 1e999"#, &[]),
+            "horizon: must be a finite number",
+        ),
+        (
+            scene_with(r#""world": "free", "horizon": "10""#, &[]),
+            "horizon: must be a number",
+        ),
+        (
+            scene_with(
+                r#""world": "free", "horizon": 1, "response": "sticky""#,
+                &[],
+            ),
+            "response: must be",
+        ),
+        (
+            scene_with(
+                free,
+                &[
+                    BALL,
+                    r#"{"shape": {"ball": {"radius": 0.5}}, "position": [0, 0, 0], "spin": 1}"#,
+                ],
+            ),
+            "objects[1].spin: unknown field",
+        ),
+        (
+            scene_with(free, &[r#"{"position": [0, 0, 0]}"#]),
+            "objects[0].shape: missing",
+        ),
+        (
+            scene_with(free, &[r#"{"shape": {"ball": {"radius": 1}}}"#]),
+            "objects[0].position: missing",
+        ),
+        (
+            scene_with(
+                free,
+                &[r#"{"shape": {"ball": {"radius": 1}}, "position": [0, 0]}"#],
+            ),
+            "objects[0].position: must be an array of 3",
+        ),
+        (
+            scene_with(
+                free,
+                &[
+                    BALL,
+                    r#"{"shape": {"ball": {"radius": 1}}, "position": [0, 0, 1e999]}"#,
+                ],
+            ),
+            "objects[1].position[2]: must be a finite number",
+        ),
+        (
+            scene_with(
+                free,
+                &[
+                    r#"{"shape": {"ball": {"radius": 1}}, "position": [0, 0, 0], "velocity": [0, null, 0]}"#,
+                ],
+            ),
+            "objects[0].velocity[1]: must be a number",
+        ),
+        (
+            scene_with(
+                free,
+                &[r#"{"shape": {"ball": {"radius": 0}}, "position": [0, 0, 0]}"#],
+            ),
+            "objects[0].shape.ball.radius: must be > 0",
+        ),
+        (
+            scene_with(
+                free,
+                &[r#"{"shape": {"ball": {"radius": -2}}, "position": [0, 0, 0]}"#],
+            ),
+            "objects[0].shape.ball.radius: must be > 0",
+        ),
+        (
+            scene_with(free, &[r#"{"shape": {"ball": {}}, "position": [0, 0, 0]}"#]),
+            "objects[0].shape.ball.radius: missing",
+        ),
+        (
+            scene_with(
+                free,
+                &[r#"{"shape": {"cuboid": {"half_extents": [1, 0, 1]}}, "position": [0, 0, 0]}"#],
+            ),
+            "objects[0].shape.cuboid.half_extents[1]: must be > 0",
+        ),
+        (
+            scene_with(
+                free,
+                &[
+                    r#"{"shape": {"convex_hull": {"points": [[0,0,0],[1,0,0],[0,1,0]]}}, "position": [0, 0, 0]}"#,
+                ],
+            ),
+            "objects[0].shape.convex_hull.points: needs at least 4",
+        ),
+        (
+            scene_with(
+                free,
+                &[
+                    r#"{"shape": {"convex_hull": {"points": [[0,0,0],[1,0,0],[0,1,0],[1,1,0]]}}, "position": [0, 0, 0]}"#,
+                ],
+            ),
+            "objects[0].shape.convex_hull.points: the points are coplanar",
+        ),
+        (
+            scene_with(
+                free,
+                &[
+                    r#"{"shape": {"ball": {"radius": 1}, "cuboid": {"half_extents": [1, 1, 1]}}, "position": [0, 0, 0]}"#,
+                ],
+            ),
+            "objects[0].shape: must hold exactly one",
+        ),
+        (
+            scene_with(
+                free,
+                &[r#"{"shape": {"sphere": {"radius": 1}}, "position": [0, 0, 0]}"#],
+            ),
+            "objects[0].shape.sphere: unknown field",
+        ),
+        (
+            scene_with(
+                free,
+                &[
+                    r#"{"shape": {"ball": {"radius": 1}}, "position": [0, 0, 0], "orientation": [0, 0, 0, 2]}"#,
+                ],
+            ),
+            "objects[0].orientation: must be a unit quaternion",
+        ),
+        (
+            scene_with(
+                r#""world": "plane", "horizon": 1"#,
+                &[
+                    BALL,
+                    r#"{"shape": {"cuboid": {"half_extents": [1, 1, 1]}}, "position": [0, 0, 0]}"#,
+                ],
+            ),
+            "objects[1].shape: a \"plane\" world holds balls only",
+        ),
+        (
+            scene_with(
+                r#""world": "free", "horizon": 1, "response": "elastic""#,
+                &[r#"{"shape": {"cuboid": {"half_extents": [1, 1, 1]}}, "position": [0, 0, 0]}"#],
+            ),
+            "objects[0].shape: the \"elastic\" response applies to balls only",
+        ),
+        (
+            scene_with(
+                r#""world": "free", "horizon": 1, "walls": {"min": [0, 0, 0], "max": [1, 0, 1]}"#,
+                &[],
+            ),
+            "walls.max[1]: must be greater",
+        ),
+        (
+            scene_with(
+                r#""world": "free", "horizon": 1, "walls": {"min": [0, 0, 0]}"#,
+                &[],
+            ),
+            "walls.max: missing",
+        ),
+        (
+            scene_with(
+                r#""world": "free", "horizon": 1, "response": "elastic", "walls": {"min": [0, 0, 0], "max": [10, 10, 10]}"#,
+                &[r#"{"shape": {"ball": {"radius": 1}}, "position": [5, 5, 9.5]}"#],
+            ),
+            "objects[0].position[2]: the ball (radius 1) starts outside the walls",
+        ),
+        (
+            scene_with(
+                free,
+                &[r#"{"shape": {"cuboid": {"half_extents": [1, 1, 1]}}, "position": [0, 0, 0]}"#],
+            ),
+            "objects[0].shape: cuboids and convex hulls are not supported yet",
+        ),
     ];
     let dir = temp_dir("errors");
     for (scene, expected) in &cases {
         let (status, err, events, stats) = run(&dir, scene, &[]);
         assert_eq!(status, 2, "scene {scene}: status {status}, stderr {err}");
-        assert!(err.contains(expected), "scene {scene}: expected {expected:?} in {err:?}");
+        assert!(
+            err.contains(expected),
+            "scene {scene}: expected {expected:?} in {err:?}"
+        );
         assert!(!err.contains("panicked"), "{err}");
-        assert!(events.is_none() && stats.is_none(), "scene {scene}: output written");
+        assert!(
+            events.is_none() && stats.is_none(),
+            "scene {scene}: output written"
+        );
     }
 }
 
@@ -157,7 +334,10 @@ fn bad_options_are_errors() {
     let (status, err, _, _) = run(&dir, &scene, &["--structure", "rolling-tree"]);
     assert_eq!(status, 2);
     assert!(err.contains("\"plane\" worlds only"), "{err}");
-    let missing = tool().args(["run", "/nonexistent/scene.json"]).output().unwrap();
+    let missing = tool()
+        .args(["run", "/nonexistent/scene.json"])
+        .output()
+        .unwrap();
     assert_eq!(missing.status.code(), Some(2));
     let (status, _, events, _) = run(&dir, &scene, &["--structure", "brute-force"]);
     assert_eq!(status, 0);
@@ -167,7 +347,9 @@ fn bad_options_are_errors() {
 #[test]
 fn same_scene_twice_gives_identical_bytes() {
     let dir = temp_dir("determinism");
-    let scene = kinetic_collide::scenes::BallScene::marbles_on_a_table().build().to_json();
+    let scene = kinetic_collide::scenes::BallScene::marbles_on_a_table()
+        .build()
+        .to_json();
     let (s1, _, e1, st1) = run(&dir, &scene, &[]);
     let (s2, _, e2, st2) = run(&dir, &scene, &[]);
     assert_eq!((s1, s2), (0, 0));

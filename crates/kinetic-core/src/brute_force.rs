@@ -24,13 +24,21 @@ impl CandidateStructure for BruteForce {
     }
 
     fn insert(&mut self, id: u32, _: &Bodies, _: Real, changes: &mut Vec<PairChange>) {
-        changes.extend(self.live.iter().map(|&b| PairChange { a: b, b: id, delta: 1 }));
+        changes.extend(self.live.iter().map(|&b| PairChange {
+            a: b,
+            b: id,
+            delta: 1,
+        }));
         self.live.push(id);
     }
 
     fn remove(&mut self, id: u32, _: &Bodies, _: Real, changes: &mut Vec<PairChange>) {
         self.live.retain(|&x| x != id);
-        changes.extend(self.live.iter().map(|&b| PairChange { a: b, b: id, delta: -1 }));
+        changes.extend(self.live.iter().map(|&b| PairChange {
+            a: b,
+            b: id,
+            delta: -1,
+        }));
     }
 
     fn replan(&mut self, _: u32, _: &Bodies, _: Real, _: &mut Vec<PairChange>) {}
@@ -50,9 +58,16 @@ impl CandidateStructure for BruteForce {
     fn validate(&self, bodies: &Bodies, _: Real) -> Result<(), String> {
         let live = bodies.iter().filter(|b| b.is_some()).count();
         if live != self.live.len() {
-            return Err(format!("brute force knows {} objects, the world has {live}", self.live.len()));
+            return Err(format!(
+                "brute force knows {} objects, the world has {live}",
+                self.live.len()
+            ));
         }
-        match self.live.iter().find(|&&id| bodies.get(id as usize).is_none_or(Option::is_none)) {
+        match self
+            .live
+            .iter()
+            .find(|&&id| bodies.get(id as usize).is_none_or(Option::is_none))
+        {
             Some(id) => Err(format!("brute force holds removed object {id}")),
             None => Ok(()),
         }

@@ -2,7 +2,7 @@
 
 /// The scalar type.
 pub type Real = f64;
-/// A point or vector in 3-space.
-pub use glam::DVec3 as Vec3;
 /// A rotation.
 pub use glam::DQuat as Quat;
+/// A point or vector in 3-space.
+pub use glam::DVec3 as Vec3;

@@ -27,7 +27,10 @@ impl Poly {
     /// # Panics
     /// If more than five coefficients are given (a programming error, not user input).
     pub fn new(coefficients: &[f64]) -> Poly {
-        assert!(coefficients.len() <= 5, "a certificate polynomial has degree at most 4");
+        assert!(
+            coefficients.len() <= 5,
+            "a certificate polynomial has degree at most 4"
+        );
         let mut c = [0.0; 5];
         c[..coefficients.len()].copy_from_slice(coefficients);
         Poly { c }

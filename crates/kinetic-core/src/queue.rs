@@ -150,7 +150,10 @@ impl EventQueue {
     pub fn validate(&self) -> Result<(), String> {
         for (pos, e) in self.heap.iter().enumerate() {
             if self.slot.get(e.id as usize) != Some(&(pos as u32)) {
-                return Err(format!("queue: id {} at heap position {pos} is not indexed there", e.id));
+                return Err(format!(
+                    "queue: id {} at heap position {pos} is not indexed there",
+                    e.id
+                ));
             }
             if pos > 0 && e.before(&self.heap[(pos - 1) / 4]) {
                 return Err(format!("queue: heap order broken at position {pos}"));
@@ -158,7 +161,10 @@ impl EventQueue {
         }
         let indexed = self.slot.iter().filter(|&&s| s != ABSENT).count();
         if indexed != self.heap.len() {
-            return Err(format!("queue: {indexed} ids indexed, {} scheduled", self.heap.len()));
+            return Err(format!(
+                "queue: {indexed} ids indexed, {} scheduled",
+                self.heap.len()
+            ));
         }
         Ok(())
     }

@@ -166,7 +166,12 @@ fn raw_roots(p: &Poly, out: &mut [(f64, bool); 4]) -> usize {
 
 /// A point just right of critical point `c`, before the next critical point or the bound.
 fn next_probe(c: f64, crit: &[(f64, bool)], bound: f64) -> f64 {
-    let next = crit.iter().map(|x| x.0).find(|&x| x > c).unwrap_or(bound).min(bound);
+    let next = crit
+        .iter()
+        .map(|x| x.0)
+        .find(|&x| x > c)
+        .unwrap_or(bound)
+        .min(bound);
     c + (next - c) * 0.5
 }
 
@@ -212,7 +217,9 @@ fn quadratic_roots(c0: f64, c1: f64, c2: f64, out: &mut [(f64, bool); 4]) -> usi
 /// Cauchy's bound: every root has `|tau| < 1 + max |c_i / c_deg|`.
 fn cauchy_bound(p: &Poly, deg: usize) -> f64 {
     let lead = p.c[deg].abs();
-    let m = p.c[..deg].iter().fold(0.0f64, |m, &x| m.max(x.abs() / lead));
+    let m = p.c[..deg]
+        .iter()
+        .fold(0.0f64, |m, &x| m.max(x.abs() / lead));
     (1.0 + m).min(f64::MAX / 4.0)
 }
 
@@ -229,7 +236,13 @@ fn polish(p: &Poly, mut a: f64, mut b: f64, sa: i8) -> f64 {
             _ => b = m,
         }
     }
-    let at_least = |v: f64, s: i8| if sign(v) == s { v } else { f64::from(s) * f64::MIN_POSITIVE };
+    let at_least = |v: f64, s: i8| {
+        if sign(v) == s {
+            v
+        } else {
+            f64::from(s) * f64::MIN_POSITIVE
+        }
+    };
     let mut fa = at_least(p.eval(a), sa);
     let mut fb = at_least(p.eval(b), -sa);
     let mut kept = 0i8;

@@ -36,7 +36,11 @@ pub trait CandidateStructure: std::fmt::Debug {
     /// The time of the structure's next own event (+infinity for none).
     fn next_event_time(&self) -> Real;
     /// Processes the next own event; returns its kind for the statistics (e.g. `"swap"`).
-    fn process_next_event(&mut self, bodies: &Bodies, changes: &mut Vec<PairChange>) -> &'static str;
+    fn process_next_event(
+        &mut self,
+        bodies: &Bodies,
+        changes: &mut Vec<PairChange>,
+    ) -> &'static str;
     /// The number of certificates the structure itself holds (pair certificates excluded).
     fn certificates(&self) -> usize;
     /// Recomputes the structure's invariants from scratch at time `now`.

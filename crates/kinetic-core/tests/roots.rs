@@ -117,7 +117,10 @@ fn huge_and_tiny_coefficients() {
     // Roots at 1e-9 and 1e9 in one quadratic.
     let p = planted(1.0, &[1e-9, 1e9]);
     let found: Vec<f64> = roots_after_zero(&p).iter().map(|r| r.tau).collect();
-    assert!(close(found[0], 1e-9, 1e-12) && (found[0] - 1e-9).abs() < 1e-20, "{found:?}");
+    assert!(
+        close(found[0], 1e-9, 1e-12) && (found[0] - 1e-9).abs() < 1e-20,
+        "{found:?}"
+    );
     assert!((found[1] - 1e9).abs() < 1e-6 * 1e9, "{found:?}");
     // A quartic with a tiny leading coefficient: a huge Cauchy bound.
     let p = Poly::new(&[-1.0, 1.0, 0.0, 0.0, 1e-30]);

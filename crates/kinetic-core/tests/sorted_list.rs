@@ -14,7 +14,11 @@ fn random_keys(n: usize, seed: u64, quadratic: bool, grid: bool) -> Vec<(u32, Sc
                 x = f64::from(rng.random_range(-3..3i32));
                 v = f64::from(rng.random_range(-2..3i32)) * 0.5;
             }
-            let a = if quadratic { rng.random_range(-0.2..0.2) } else { 0.0 };
+            let a = if quadratic {
+                rng.random_range(-0.2..0.2)
+            } else {
+                0.0
+            };
             (i, ScalarKey::new(0.0, x, v, a))
         })
         .collect()
@@ -27,13 +31,23 @@ fn check_against_sorting(keys: &[(u32, ScalarKey)], horizon: f64, samples: usize
     for s in 1..=samples {
         let t = horizon * s as f64 / samples as f64;
         while let Some(_swap) = list.process_next_event(t) {
-            list.validate().unwrap_or_else(|e| panic!("after a swap at {}: {e}", list.now()));
+            list.validate()
+                .unwrap_or_else(|e| panic!("after a swap at {}: {e}", list.now()));
         }
         list.advance_to(t, |_| {}).unwrap();
         list.validate().unwrap();
-        let values: Vec<f64> = list.order().iter().map(|&i| keys[i as usize].1.value_at(t)).collect();
+        let values: Vec<f64> = list
+            .order()
+            .iter()
+            .map(|&i| keys[i as usize].1.value_at(t))
+            .collect();
         for w in values.windows(2) {
-            assert!(w[0] <= w[1] + 1e-9 * w[1].abs().max(1.0), "not sorted at {t}: {} > {}", w[0], w[1]);
+            assert!(
+                w[0] <= w[1] + 1e-9 * w[1].abs().max(1.0),
+                "not sorted at {t}: {} > {}",
+                w[0],
+                w[1]
+            );
         }
     }
     list.swap_count()
@@ -65,7 +79,11 @@ fn simultaneous_swaps_on_a_grid() {
 #[test]
 fn three_items_crossing_at_one_point() {
     // All at x = 0 at t = 1 with speeds 1, 0, -1: the order reverses in three swaps.
-    let keys = [(0, ScalarKey::linear(-1.0, 1.0)), (1, ScalarKey::linear(0.0, 0.0)), (2, ScalarKey::linear(1.0, -1.0))];
+    let keys = [
+        (0, ScalarKey::linear(-1.0, 1.0)),
+        (1, ScalarKey::linear(0.0, 0.0)),
+        (2, ScalarKey::linear(1.0, -1.0)),
+    ];
     let mut list = KineticSortedList::from_items(0.0, keys).unwrap();
     let mut swaps = Vec::new();
     while let Some(s) = list.process_next_event(2.0) {
@@ -92,7 +110,12 @@ fn insert_remove_and_rekey_while_running() {
         list.advance_to(t, |_| {}).unwrap();
         match step % 3 {
             0 => {
-                let k = ScalarKey::new(t, rng.random_range(-10.0..10.0), rng.random_range(-1.0..1.0), 0.0);
+                let k = ScalarKey::new(
+                    t,
+                    rng.random_range(-10.0..10.0),
+                    rng.random_range(-1.0..1.0),
+                    0.0,
+                );
                 list.insert(next_id, k).unwrap();
                 live.push((next_id, k));
                 next_id += 1;
@@ -116,12 +139,19 @@ fn insert_remove_and_rekey_while_running() {
         }
         let mut want: Vec<f64> = live.iter().map(|(_, k)| k.value_at(t)).collect();
         want.sort_by(f64::total_cmp);
-        let got: Vec<f64> = list.order().iter().map(|&i| list.key(i).unwrap().value_at(t)).collect();
+        let got: Vec<f64> = list
+            .order()
+            .iter()
+            .map(|&i| list.key(i).unwrap().value_at(t))
+            .collect();
         assert_eq!(got.len(), want.len());
         for (g, w) in got.iter().zip(&want) {
             assert!((g - w).abs() < 1e-9, "at {t}: {g} vs {w}");
         }
     }
-    assert_eq!(list.insert(5000, ScalarKey::linear(f64::NAN, 0.0)), Err(kinetic_core::SortedListError::NonFinite(5000)));
+    assert_eq!(
+        list.insert(5000, ScalarKey::linear(f64::NAN, 0.0)),
+        Err(kinetic_core::SortedListError::NonFinite(5000))
+    );
     assert!(list.remove(99_999).is_err());
 }

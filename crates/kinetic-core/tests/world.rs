@@ -2,7 +2,8 @@
 //! `validate()` after every event.
 
 use kinetic_core::{
-    BruteForce, ContactEvent, ContactKind, FlightPlan, ObjectId, Response, Vec3, Walls, World, WorldError, WorldKind,
+    BruteForce, ContactEvent, ContactKind, FlightPlan, ObjectId, Response, Vec3, Walls, World,
+    WorldError, WorldKind,
 };
 
 fn world(kind: WorldKind, response: Response, walls: Option<Walls>) -> World {
@@ -13,7 +14,8 @@ fn world(kind: WorldKind, response: Response, walls: Option<Walls>) -> World {
 fn run(w: &mut World, t: f64) -> Vec<ContactEvent> {
     w.validate().unwrap();
     while w.step(t).unwrap().is_some() {
-        w.validate().unwrap_or_else(|e| panic!("at {}: {e}", w.now()));
+        w.validate()
+            .unwrap_or_else(|e| panic!("at {}: {e}", w.now()));
     }
     w.advance_to(t).unwrap();
     w.drain_events()
@@ -24,14 +26,19 @@ fn v(x: f64, y: f64, z: f64) -> Vec3 {
 }
 
 fn summary(events: &[ContactEvent]) -> Vec<(f64, u32, u32, ContactKind)> {
-    events.iter().map(|e| (e.time, e.a.0, e.b.0, e.kind)).collect()
+    events
+        .iter()
+        .map(|e| (e.time, e.a.0, e.b.0, e.kind))
+        .collect()
 }
 
 #[test]
 fn head_on() {
     let mut w = world(WorldKind::Free, Response::None, None);
-    w.add_ball(1.0, FlightPlan::linear(v(-5.0, 0.0, 0.0), v(1.0, 0.0, 0.0))).unwrap();
-    w.add_ball(0.5, FlightPlan::linear(v(5.0, 0.0, 0.0), v(-2.0, 0.0, 0.0))).unwrap();
+    w.add_ball(1.0, FlightPlan::linear(v(-5.0, 0.0, 0.0), v(1.0, 0.0, 0.0)))
+        .unwrap();
+    w.add_ball(0.5, FlightPlan::linear(v(5.0, 0.0, 0.0), v(-2.0, 0.0, 0.0)))
+        .unwrap();
     // Gap 10 - 1.5 closes at speed 3: begin at 8.5/3; centres pass and part at 11.5/3.
     let e = run(&mut w, 10.0);
     assert_eq!(e.len(), 2);
@@ -43,8 +50,13 @@ fn head_on() {
 fn glancing() {
     let mut w = world(WorldKind::Free, Response::None, None);
     // Offset 1.5 across, radii summing to 2: contact while |x| <= sqrt(4 - 2.25).
-    w.add_ball(1.0, FlightPlan::linear(v(-10.0, 1.5, 0.0), v(1.0, 0.0, 0.0))).unwrap();
-    w.add_ball(1.0, FlightPlan::at_rest(v(0.0, 0.0, 0.0))).unwrap();
+    w.add_ball(
+        1.0,
+        FlightPlan::linear(v(-10.0, 1.5, 0.0), v(1.0, 0.0, 0.0)),
+    )
+    .unwrap();
+    w.add_ball(1.0, FlightPlan::at_rest(v(0.0, 0.0, 0.0)))
+        .unwrap();
     let e = run(&mut w, 20.0);
     let half = (4.0f64 - 2.25).sqrt();
     assert_eq!(e.len(), 2);
@@ -55,32 +67,50 @@ fn glancing() {
 #[test]
 fn graze_is_begin_and_end_at_once() {
     let mut w = world(WorldKind::Free, Response::None, None);
-    w.add_ball(0.5, FlightPlan::linear(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0))).unwrap();
-    w.add_ball(0.5, FlightPlan::at_rest(v(5.0, 1.0, 0.0))).unwrap();
+    w.add_ball(0.5, FlightPlan::linear(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0)))
+        .unwrap();
+    w.add_ball(0.5, FlightPlan::at_rest(v(5.0, 1.0, 0.0)))
+        .unwrap();
     let e = run(&mut w, 10.0);
-    assert_eq!(summary(&e), vec![(5.0, 0, 1, ContactKind::Begin), (5.0, 0, 1, ContactKind::End)]);
+    assert_eq!(
+        summary(&e),
+        vec![
+            (5.0, 0, 1, ContactKind::Begin),
+            (5.0, 0, 1, ContactKind::End)
+        ]
+    );
 }
 
 #[test]
 fn near_miss_is_no_contact() {
     let mut w = world(WorldKind::Free, Response::None, None);
-    w.add_ball(0.5, FlightPlan::linear(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0))).unwrap();
-    w.add_ball(0.5, FlightPlan::at_rest(v(5.0, 1.0 + 1e-9, 0.0))).unwrap();
+    w.add_ball(0.5, FlightPlan::linear(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0)))
+        .unwrap();
+    w.add_ball(0.5, FlightPlan::at_rest(v(5.0, 1.0 + 1e-9, 0.0)))
+        .unwrap();
     assert!(run(&mut w, 10.0).is_empty());
 }
 
 #[test]
 fn overlapping_at_the_start() {
     let mut w = world(WorldKind::Free, Response::None, None);
-    w.add_ball(1.0, FlightPlan::linear(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0))).unwrap();
-    w.add_ball(1.0, FlightPlan::at_rest(v(1.0, 0.0, 0.0))).unwrap();
+    w.add_ball(1.0, FlightPlan::linear(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0)))
+        .unwrap();
+    w.add_ball(1.0, FlightPlan::at_rest(v(1.0, 0.0, 0.0)))
+        .unwrap();
     // Touching and static: begin at 0, never ends.
-    w.add_ball(1.0, FlightPlan::at_rest(v(0.0, 10.0, 0.0))).unwrap();
-    w.add_ball(1.0, FlightPlan::at_rest(v(0.0, 12.0, 0.0))).unwrap();
+    w.add_ball(1.0, FlightPlan::at_rest(v(0.0, 10.0, 0.0)))
+        .unwrap();
+    w.add_ball(1.0, FlightPlan::at_rest(v(0.0, 12.0, 0.0)))
+        .unwrap();
     let e = run(&mut w, 10.0);
     assert_eq!(
         summary(&e),
-        vec![(0.0, 0, 1, ContactKind::Begin), (0.0, 2, 3, ContactKind::Begin), (3.0, 0, 1, ContactKind::End)]
+        vec![
+            (0.0, 0, 1, ContactKind::Begin),
+            (0.0, 2, 3, ContactKind::Begin),
+            (3.0, 0, 1, ContactKind::End)
+        ]
     );
 }
 
@@ -88,8 +118,13 @@ fn overlapping_at_the_start() {
 fn accelerating_ball_catches_another() {
     let mut w = world(WorldKind::Free, Response::None, None);
     // x(t) = t^2 (acceleration 2) reaches 8 - 2 = 6 at t = sqrt(6); passes 10 at sqrt(10).
-    w.add_ball(1.0, FlightPlan::accelerated(v(0.0, 0.0, 0.0), Vec3::ZERO, v(2.0, 0.0, 0.0))).unwrap();
-    w.add_ball(1.0, FlightPlan::at_rest(v(8.0, 0.0, 0.0))).unwrap();
+    w.add_ball(
+        1.0,
+        FlightPlan::accelerated(v(0.0, 0.0, 0.0), Vec3::ZERO, v(2.0, 0.0, 0.0)),
+    )
+    .unwrap();
+    w.add_ball(1.0, FlightPlan::at_rest(v(8.0, 0.0, 0.0)))
+        .unwrap();
     let e = run(&mut w, 5.0);
     assert_eq!(e.len(), 2);
     assert!((e[0].time - 6f64.sqrt()).abs() < 1e-12, "{}", e[0].time);
@@ -100,11 +135,22 @@ fn accelerating_ball_catches_another() {
 fn accelerating_pair_has_quartic_certificate() {
     let mut w = world(WorldKind::Free, Response::None, None);
     // Different accelerations along y; both at y = 1.75 when their x meet at t = 5.
-    w.add_ball(0.5, FlightPlan::accelerated(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(0.0, 0.14, 0.0))).unwrap();
-    w.add_ball(0.5, FlightPlan::accelerated(v(10.0, 3.0, 0.0), v(-1.0, 0.0, 0.0), v(0.0, -0.1, 0.0))).unwrap();
+    w.add_ball(
+        0.5,
+        FlightPlan::accelerated(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(0.0, 0.14, 0.0)),
+    )
+    .unwrap();
+    w.add_ball(
+        0.5,
+        FlightPlan::accelerated(v(10.0, 3.0, 0.0), v(-1.0, 0.0, 0.0), v(0.0, -0.1, 0.0)),
+    )
+    .unwrap();
     let e = run(&mut w, 20.0);
     assert_eq!(e.len(), 2);
-    let (a, b) = (w.body(ObjectId(0)).unwrap().plan, w.body(ObjectId(1)).unwrap().plan);
+    let (a, b) = (
+        w.body(ObjectId(0)).unwrap().plan,
+        w.body(ObjectId(1)).unwrap().plan,
+    );
     for ev in &e {
         let d = (a.position_at(ev.time) - b.position_at(ev.time)).length();
         assert!((d - 1.0).abs() < 1e-9, "distance {d} at {}", ev.time);
@@ -115,17 +161,29 @@ fn accelerating_pair_has_quartic_certificate() {
 fn plane_world_uses_tangency_points() {
     let mut w = world(WorldKind::Plane, Response::None, None);
     // Radii 1 and 4: contact when tangency points are 2 sqrt(4) = 4 apart (not 5).
-    w.add_ball(1.0, FlightPlan::linear(v(0.0, 0.0, 7.0), v(1.0, 0.0, 3.0))).unwrap();
-    w.add_ball(4.0, FlightPlan::at_rest(v(10.0, 0.0, 0.0))).unwrap();
+    w.add_ball(1.0, FlightPlan::linear(v(0.0, 0.0, 7.0), v(1.0, 0.0, 3.0)))
+        .unwrap();
+    w.add_ball(4.0, FlightPlan::at_rest(v(10.0, 0.0, 0.0)))
+        .unwrap();
     let e = run(&mut w, 20.0);
-    assert_eq!(summary(&e), vec![(6.0, 0, 1, ContactKind::Begin), (14.0, 0, 1, ContactKind::End)]);
+    assert_eq!(
+        summary(&e),
+        vec![
+            (6.0, 0, 1, ContactKind::Begin),
+            (14.0, 0, 1, ContactKind::End)
+        ]
+    );
 }
 
 #[test]
 fn elastic_exchange_of_equal_balls() {
     let mut w = world(WorldKind::Free, Response::Elastic, None);
-    let a = w.add_ball(1.0, FlightPlan::linear(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0))).unwrap();
-    let b = w.add_ball(1.0, FlightPlan::at_rest(v(5.0, 0.0, 0.0))).unwrap();
+    let a = w
+        .add_ball(1.0, FlightPlan::linear(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0)))
+        .unwrap();
+    let b = w
+        .add_ball(1.0, FlightPlan::at_rest(v(5.0, 0.0, 0.0)))
+        .unwrap();
     let e = run(&mut w, 10.0);
     assert_eq!(summary(&e), vec![(3.0, 0, 1, ContactKind::Begin)]);
     let (pa, pb) = (w.body(a).unwrap().plan, w.body(b).unwrap().plan);
@@ -137,14 +195,21 @@ fn elastic_exchange_of_equal_balls() {
 #[test]
 fn elastic_keeps_momentum_and_energy() {
     let mut w = world(WorldKind::Free, Response::Elastic, None);
-    let a = w.add_ball(1.0, FlightPlan::linear(v(0.0, 0.3, 0.0), v(2.0, 0.0, 0.1))).unwrap();
-    let b = w.add_ball(2.0, FlightPlan::linear(v(8.0, 0.0, 0.0), v(-1.0, 0.2, 0.0))).unwrap();
+    let a = w
+        .add_ball(1.0, FlightPlan::linear(v(0.0, 0.3, 0.0), v(2.0, 0.0, 0.1)))
+        .unwrap();
+    let b = w
+        .add_ball(2.0, FlightPlan::linear(v(8.0, 0.0, 0.0), v(-1.0, 0.2, 0.0)))
+        .unwrap();
     let (ma, mb) = (1.0, 8.0);
     let momentum = |w: &World| {
         let (pa, pb) = (w.body(a).unwrap().plan, w.body(b).unwrap().plan);
         let t = w.now();
         let (va, vb) = (pa.velocity_at(t), pb.velocity_at(t));
-        (va * ma + vb * mb, 0.5 * ma * va.length_squared() + 0.5 * mb * vb.length_squared())
+        (
+            va * ma + vb * mb,
+            0.5 * ma * va.length_squared() + 0.5 * mb * vb.length_squared(),
+        )
     };
     let (p0, e0) = momentum(&w);
     let e = run(&mut w, 10.0);
@@ -159,8 +224,12 @@ fn elastic_keeps_momentum_and_energy() {
 #[test]
 fn elastic_plane_impulse_along_tangency_points() {
     let mut w = world(WorldKind::Plane, Response::Elastic, None);
-    let a = w.add_ball(1.0, FlightPlan::linear(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0))).unwrap();
-    let b = w.add_ball(1.0, FlightPlan::at_rest(v(5.0, 0.0, 0.0))).unwrap();
+    let a = w
+        .add_ball(1.0, FlightPlan::linear(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0)))
+        .unwrap();
+    let b = w
+        .add_ball(1.0, FlightPlan::at_rest(v(5.0, 0.0, 0.0)))
+        .unwrap();
     let e = run(&mut w, 10.0);
     // Equal radii: contact at tangency distance 2 (t = 3); velocities exchange along x.
     assert_eq!(summary(&e), vec![(3.0, 0, 1, ContactKind::Begin)]);
@@ -171,34 +240,57 @@ fn elastic_plane_impulse_along_tangency_points() {
 #[test]
 fn overlapping_and_moving_apart_do_not_collide() {
     let mut w = world(WorldKind::Free, Response::Elastic, None);
-    w.add_ball(1.0, FlightPlan::linear(v(0.0, 0.0, 0.0), v(-1.0, 0.0, 0.0))).unwrap();
-    w.add_ball(1.0, FlightPlan::linear(v(1.0, 0.0, 0.0), v(1.0, 0.0, 0.0))).unwrap();
+    w.add_ball(1.0, FlightPlan::linear(v(0.0, 0.0, 0.0), v(-1.0, 0.0, 0.0)))
+        .unwrap();
+    w.add_ball(1.0, FlightPlan::linear(v(1.0, 0.0, 0.0), v(1.0, 0.0, 0.0)))
+        .unwrap();
     assert!(run(&mut w, 10.0).is_empty());
     // Overlapping and approaching: a collision at t = 0.
     let mut w = world(WorldKind::Free, Response::Elastic, None);
-    w.add_ball(1.0, FlightPlan::linear(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0))).unwrap();
-    w.add_ball(1.0, FlightPlan::at_rest(v(1.0, 0.0, 0.0))).unwrap();
-    assert_eq!(summary(&run(&mut w, 10.0)), vec![(0.0, 0, 1, ContactKind::Begin)]);
+    w.add_ball(1.0, FlightPlan::linear(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0)))
+        .unwrap();
+    w.add_ball(1.0, FlightPlan::at_rest(v(1.0, 0.0, 0.0)))
+        .unwrap();
+    assert_eq!(
+        summary(&run(&mut w, 10.0)),
+        vec![(0.0, 0, 1, ContactKind::Begin)]
+    );
 }
 
 #[test]
 fn three_ball_newton_cradle() {
     let mut w = world(WorldKind::Free, Response::Elastic, None);
-    let a = w.add_ball(1.0, FlightPlan::linear(v(-3.0, 0.0, 0.0), v(1.0, 0.0, 0.0))).unwrap();
-    w.add_ball(1.0, FlightPlan::at_rest(v(0.0, 0.0, 0.0))).unwrap();
-    let c = w.add_ball(1.0, FlightPlan::at_rest(v(2.5, 0.0, 0.0))).unwrap();
+    let a = w
+        .add_ball(1.0, FlightPlan::linear(v(-3.0, 0.0, 0.0), v(1.0, 0.0, 0.0)))
+        .unwrap();
+    w.add_ball(1.0, FlightPlan::at_rest(v(0.0, 0.0, 0.0)))
+        .unwrap();
+    let c = w
+        .add_ball(1.0, FlightPlan::at_rest(v(2.5, 0.0, 0.0)))
+        .unwrap();
     let e = run(&mut w, 10.0);
     // a hits b at t = 1, b hits c at t = 1.5; a rests, c leaves at speed 1.
-    assert_eq!(summary(&e), vec![(1.0, 0, 1, ContactKind::Begin), (1.5, 1, 2, ContactKind::Begin)]);
+    assert_eq!(
+        summary(&e),
+        vec![
+            (1.0, 0, 1, ContactKind::Begin),
+            (1.5, 1, 2, ContactKind::Begin)
+        ]
+    );
     assert_eq!(w.body(a).unwrap().plan.velocity_at(10.0), Vec3::ZERO);
     assert_eq!(w.body(c).unwrap().plan.velocity_at(10.0), v(1.0, 0.0, 0.0));
 }
 
 #[test]
 fn walls_bounce_and_are_counted() {
-    let walls = Walls { min: v(0.0, 0.0, 0.0), max: v(10.0, 10.0, 10.0) };
+    let walls = Walls {
+        min: v(0.0, 0.0, 0.0),
+        max: v(10.0, 10.0, 10.0),
+    };
     let mut w = world(WorldKind::Free, Response::Elastic, Some(walls));
-    let a = w.add_ball(1.0, FlightPlan::linear(v(5.0, 5.0, 5.0), v(1.0, 0.0, 0.0))).unwrap();
+    let a = w
+        .add_ball(1.0, FlightPlan::linear(v(5.0, 5.0, 5.0), v(1.0, 0.0, 0.0)))
+        .unwrap();
     let e = run(&mut w, 20.0);
     assert!(e.is_empty());
     // Hits x = 9 at t = 4, x = 1 at t = 12, x = 9 again at t = 20.
@@ -213,19 +305,33 @@ fn walls_bounce_and_are_counted() {
 #[test]
 fn plan_change_and_removal_mid_run() {
     let mut w = world(WorldKind::Free, Response::None, None);
-    let a = w.add_ball(1.0, FlightPlan::linear(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0))).unwrap();
-    let b = w.add_ball(1.0, FlightPlan::at_rest(v(10.0, 0.0, 0.0))).unwrap();
+    let a = w
+        .add_ball(1.0, FlightPlan::linear(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0)))
+        .unwrap();
+    let b = w
+        .add_ball(1.0, FlightPlan::at_rest(v(10.0, 0.0, 0.0)))
+        .unwrap();
     run(&mut w, 2.0);
     // Stop a at x = 2: no contact any more.
-    w.set_plan(a, FlightPlan::at_rest(v(2.0, 0.0, 0.0)).starting_at(2.0)).unwrap();
+    w.set_plan(a, FlightPlan::at_rest(v(2.0, 0.0, 0.0)).starting_at(2.0))
+        .unwrap();
     assert!(run(&mut w, 20.0).is_empty());
     // Teleport a onto b: contact begins at once; removing b drops the pair.
-    w.set_plan(a, FlightPlan::at_rest(v(10.5, 0.0, 0.0)).starting_at(20.0)).unwrap();
-    assert_eq!(summary(&run(&mut w, 21.0)), vec![(20.0, 0, 1, ContactKind::Begin)]);
+    w.set_plan(a, FlightPlan::at_rest(v(10.5, 0.0, 0.0)).starting_at(20.0))
+        .unwrap();
+    assert_eq!(
+        summary(&run(&mut w, 21.0)),
+        vec![(20.0, 0, 1, ContactKind::Begin)]
+    );
     w.remove(b).unwrap();
     assert_eq!(w.candidate_pairs(), 0);
     assert_eq!(w.remove(b), Err(WorldError::UnknownObject(1)));
-    let c = w.add_ball(1.0, FlightPlan::linear(v(30.0, 0.0, 0.0), v(-1.0, 0.0, 0.0)).starting_at(21.0)).unwrap();
+    let c = w
+        .add_ball(
+            1.0,
+            FlightPlan::linear(v(30.0, 0.0, 0.0), v(-1.0, 0.0, 0.0)).starting_at(21.0),
+        )
+        .unwrap();
     let e = run(&mut w, 40.0);
     assert_eq!(c, ObjectId(2));
     assert_eq!(summary(&e)[0].1, 0);
@@ -235,9 +341,21 @@ fn plan_change_and_removal_mid_run() {
 #[test]
 fn bad_input_is_a_typed_error() {
     let mut w = World::new(WorldKind::Free);
-    assert!(matches!(w.add_ball(-1.0, FlightPlan::at_rest(Vec3::ZERO)), Err(WorldError::InvalidRadius { .. })));
-    assert!(matches!(w.add_ball(1.0, FlightPlan::at_rest(v(f64::NAN, 0.0, 0.0))), Err(WorldError::NonFinitePlan { .. })));
+    assert!(matches!(
+        w.add_ball(-1.0, FlightPlan::at_rest(Vec3::ZERO)),
+        Err(WorldError::InvalidRadius { .. })
+    ));
+    assert!(matches!(
+        w.add_ball(1.0, FlightPlan::at_rest(v(f64::NAN, 0.0, 0.0))),
+        Err(WorldError::NonFinitePlan { .. })
+    ));
     w.advance_to(1.0).unwrap();
-    assert!(matches!(w.advance_to(0.5), Err(WorldError::Backwards { .. })));
-    assert!(matches!(w.set_plan(ObjectId(9), FlightPlan::at_rest(Vec3::ZERO)), Err(WorldError::UnknownObject(9))));
+    assert!(matches!(
+        w.advance_to(0.5),
+        Err(WorldError::Backwards { .. })
+    ));
+    assert!(matches!(
+        w.set_plan(ObjectId(9), FlightPlan::at_rest(Vec3::ZERO)),
+        Err(WorldError::UnknownObject(9))
+    ));
 }

@@ -57,7 +57,11 @@ impl ScalarKey {
     #[inline]
     pub fn local(&self, now: Real) -> [Real; 3] {
         let d = now - self.t0;
-        [self.k0 + (self.k1 + self.k2 * d) * d, self.k1 + 2.0 * self.k2 * d, self.k2]
+        [
+            self.k0 + (self.k1 + self.k2 * d) * d,
+            self.k1 + 2.0 * self.k2 * d,
+            self.k2,
+        ]
     }
 }
 

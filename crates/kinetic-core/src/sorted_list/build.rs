@@ -46,7 +46,10 @@ impl KineticSortedList {
 }
 
 pub(super) fn check_key(id: u32, key: &ScalarKey) -> Result<(), SortedListError> {
-    if [key.t0, key.k0, key.k1, key.k2].iter().all(|x| x.is_finite()) {
+    if [key.t0, key.k0, key.k1, key.k2]
+        .iter()
+        .all(|x| x.is_finite())
+    {
         Ok(())
     } else {
         Err(SortedListError::NonFinite(id))

@@ -45,7 +45,10 @@ impl KineticSortedList {
         mut on_swap: impl FnMut(Swap),
     ) -> Result<(), SortedListError> {
         if t < self.now || t.is_nan() {
-            return Err(SortedListError::Backwards { now: self.now, to: t });
+            return Err(SortedListError::Backwards {
+                now: self.now,
+                to: t,
+            });
         }
         while let Some(swap) = self.process_next_event(t) {
             on_swap(swap);

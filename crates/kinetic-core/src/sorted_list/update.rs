@@ -30,7 +30,10 @@ impl KineticSortedList {
 
     /// Removes `item`; its neighbours get a certificate of their own.
     pub fn remove(&mut self, item: u32) -> Result<ScalarKey, SortedListError> {
-        let key = self.key(item).copied().ok_or(SortedListError::Missing(item))?;
+        let key = self
+            .key(item)
+            .copied()
+            .ok_or(SortedListError::Missing(item))?;
         let i = self.pos[item as usize] as usize;
         self.drop_certificate(item);
         self.keys[item as usize] = None;

@@ -11,7 +11,10 @@ impl KineticSortedList {
         self.queue.validate()?;
         let present = self.keys.iter().filter(|k| k.is_some()).count();
         if present != self.order.len() {
-            return Err(format!("{present} keys but {} items in order", self.order.len()));
+            return Err(format!(
+                "{present} keys but {} items in order",
+                self.order.len()
+            ));
         }
         let tol = 1e-9 * self.now.abs().max(1.0);
         for (i, &id) in self.order.iter().enumerate() {
@@ -30,11 +33,17 @@ impl KineticSortedList {
                 return Err(format!("items {x}, {y} have no certificate"));
             };
             if due.unwrap_or(f64::INFINITY) != cert.failure_time() {
-                return Err(format!("certificate of {x}, {y} is scheduled at {due:?}, fails at {}", cert.failure_time()));
+                return Err(format!(
+                    "certificate of {x}, {y} is scheduled at {due:?}, fails at {}",
+                    cert.failure_time()
+                ));
             }
             let due = cert.failure_time();
             if due < self.now {
-                return Err(format!("certificate of {x}, {y} was due at {due}, now is {}", self.now));
+                return Err(format!(
+                    "certificate of {x}, {y} was due at {due}, now is {}",
+                    self.now
+                ));
             }
             let (lx, ly) = (self.local(x), self.local(y));
             let gap = ly[0] - lx[0];

@@ -139,7 +139,9 @@ pub enum WorldError {
         to: Real,
     },
     /// Too many events at one instant: a Zeno configuration.
-    #[error("more than {limit} events at time {time}: a Zeno configuration (objects {a} and {b} last)")]
+    #[error(
+        "more than {limit} events at time {time}: a Zeno configuration (objects {a} and {b} last)"
+    )]
     Zeno {
         /// The instant.
         time: Real,
@@ -241,7 +243,9 @@ impl World {
     ) -> Result<World, WorldError> {
         if let Some(w) = walls {
             let dims = if kind == WorldKind::Plane { 2 } else { 3 };
-            if !(0..dims).all(|k| w.min[k].is_finite() && w.max[k].is_finite() && w.min[k] < w.max[k]) {
+            if !(0..dims)
+                .all(|k| w.min[k].is_finite() && w.max[k].is_finite() && w.min[k] < w.max[k])
+            {
                 return Err(WorldError::InvalidWalls);
             }
         }
@@ -324,7 +328,10 @@ impl World {
     pub fn add_ball(&mut self, radius: Real, plan: FlightPlan) -> Result<ObjectId, WorldError> {
         let object = self.bodies.len() as u32;
         if !(radius.is_finite() && radius > 0.0) {
-            return Err(WorldError::InvalidRadius { object, value: radius });
+            return Err(WorldError::InvalidRadius {
+                object,
+                value: radius,
+            });
         }
         let body = Body {
             shape: Shape::Ball { radius },
@@ -340,7 +347,8 @@ impl World {
         self.bodies.push(Some(body));
         self.wall_due.push(None);
         let mut changes = std::mem::take(&mut self.changes);
-        self.structure.insert(object, &self.bodies, self.now, &mut changes);
+        self.structure
+            .insert(object, &self.bodies, self.now, &mut changes);
         self.apply_changes(&mut changes);
         self.changes = changes;
         self.refresh_walls(object);
@@ -351,7 +359,8 @@ impl World {
     pub fn remove(&mut self, id: ObjectId) -> Result<Body, WorldError> {
         let body = *self.body(id).ok_or(WorldError::UnknownObject(id.0))?;
         let mut changes = std::mem::take(&mut self.changes);
-        self.structure.remove(id.0, &self.bodies, self.now, &mut changes);
+        self.structure
+            .remove(id.0, &self.bodies, self.now, &mut changes);
         self.apply_changes(&mut changes);
         self.changes = changes;
         for slot in self.pairs.slots_of(id.0) {

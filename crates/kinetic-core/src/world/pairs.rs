@@ -74,12 +74,22 @@ impl Walk {
     }
 
     fn empty(made: Real, f: Roots, g: Roots, inside: bool) -> Walk {
-        Walk { made, f, g, f_next: 0, g_next: 0, inside, due: None }
+        Walk {
+            made,
+            f,
+            g,
+            f_next: 0,
+            g_next: 0,
+            inside,
+            due: None,
+        }
     }
 
     /// Steps past the root that is due (after its event was processed) and finds the next.
     pub(crate) fn consume(&mut self, response: Response) {
-        let Some((_, source, kind)) = self.due else { return };
+        let Some((_, source, kind)) = self.due else {
+            return;
+        };
         match source {
             Source::Now => {}
             Source::F => {
@@ -199,7 +209,10 @@ impl PairTable {
     }
 
     pub(crate) fn slots_of(&self, object: u32) -> Vec<u32> {
-        self.of_object.get(object as usize).cloned().unwrap_or_default()
+        self.of_object
+            .get(object as usize)
+            .cloned()
+            .unwrap_or_default()
     }
 
     pub(crate) fn iter(&self) -> impl Iterator<Item = (u32, &PairCertificate)> {
@@ -253,7 +266,11 @@ impl World {
             WorldKind::Free => (ra + rb) * (ra + rb),
             WorldKind::Plane => 4.0 * ra * rb,
         };
-        ball_ball_gap(&pa.local_coefficients(self.now), &pb.local_coefficients(self.now), threshold2)
+        ball_ball_gap(
+            &pa.local_coefficients(self.now),
+            &pb.local_coefficients(self.now),
+            threshold2,
+        )
     }
 
     fn plan_of(&self, id: u32) -> crate::FlightPlan {
@@ -295,7 +312,13 @@ impl World {
             }
             Response::Elastic => (Walk::elastic(&f, self.now), false),
         };
-        let slot = self.pairs.insert(PairCertificate { a, b, refs, touching, walk });
+        let slot = self.pairs.insert(PairCertificate {
+            a,
+            b,
+            refs,
+            touching,
+            walk,
+        });
         self.schedule_pair(slot);
     }
 

@@ -33,7 +33,10 @@ impl World {
     /// Processes every event up to time `t` in time order, then moves the clock to `t`.
     pub fn advance_to(&mut self, t: Real) -> Result<(), WorldError> {
         if t.is_nan() || t < self.now {
-            return Err(WorldError::Backwards { now: self.now, to: t });
+            return Err(WorldError::Backwards {
+                now: self.now,
+                to: t,
+            });
         }
         if self.stats.samples == 0 {
             self.sample();
@@ -50,7 +53,7 @@ impl World {
         let tp = self.pair_queue.next_time();
         let tw = self.wall_queue.next_time();
         let next = ts.min(tp).min(tw);
-        if !(next <= until) {
+        if next > until || next.is_nan() {
             return Ok(None);
         }
         if next > self.now {
@@ -60,7 +63,9 @@ impl World {
         // pairs by (a, b), then walls by object.
         let kind = if ts <= tp && ts <= tw {
             let mut changes = std::mem::take(&mut self.changes);
-            let kind = self.structure.process_next_event(&self.bodies, &mut changes);
+            let kind = self
+                .structure
+                .process_next_event(&self.bodies, &mut changes);
             self.apply_changes(&mut changes);
             self.changes = changes;
             StepKind::Structure(kind)
@@ -98,7 +103,12 @@ impl World {
                 StepKind::Wall(a) => (a, a),
                 StepKind::Structure(_) => (0, 0),
             };
-            return Err(WorldError::Zeno { time: self.now, limit, a, b });
+            return Err(WorldError::Zeno {
+                time: self.now,
+                limit,
+                a,
+                b,
+            });
         }
         Ok(())
     }
@@ -107,7 +117,9 @@ impl World {
     fn fire_pair(&mut self, slot: u32) -> (u32, u32) {
         let cert = *self.pairs.get(slot);
         let (a, b) = (cert.a, cert.b);
-        let Some((_, _, due)) = cert.walk.due else { return (a, b) };
+        let Some((_, _, due)) = cert.walk.due else {
+            return (a, b);
+        };
         match (self.response, due) {
             (Response::None, Due::Begin) => {
                 self.log(a, b, ContactKind::Begin);
@@ -170,7 +182,8 @@ impl World {
             body.plan = plan;
         }
         let mut changes = std::mem::take(&mut self.changes);
-        self.structure.replan(id, &self.bodies, self.now, &mut changes);
+        self.structure
+            .replan(id, &self.bodies, self.now, &mut changes);
         self.apply_changes(&mut changes);
         self.changes = changes;
         for slot in self.pairs.slots_of(id) {

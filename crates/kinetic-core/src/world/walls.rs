@@ -20,7 +20,9 @@ impl World {
         let Some(walls) = self.walls.filter(|_| self.response == Response::Elastic) else {
             return;
         };
-        let Some(body) = self.bodies[id as usize] else { return };
+        let Some(body) = self.bodies[id as usize] else {
+            return;
+        };
         let centre = body.plan.local_coefficients(self.now);
         let r = body.shape.outer_radius();
         let mut best: Option<WallHit> = None;
@@ -32,10 +34,10 @@ impl World {
                 while let Some((_, _, Due::Graze)) = walk.due {
                     walk.consume(Response::Elastic);
                 }
-                if let Some((time, _, _)) = walk.due {
-                    if best.is_none_or(|b| time < b.time) {
-                        best = Some(WallHit { time, axis, upper });
-                    }
+                if let Some((time, _, _)) = walk.due
+                    && best.is_none_or(|b| time < b.time)
+                {
+                    best = Some(WallHit { time, axis, upper });
                 }
             }
         }
@@ -50,7 +52,9 @@ impl World {
 
     /// A ball reaches a wall: its velocity across that wall is reversed.
     pub(crate) fn bounce(&mut self, id: u32) {
-        let Some(hit) = self.wall_due[id as usize] else { return };
+        let Some(hit) = self.wall_due[id as usize] else {
+            return;
+        };
         let plan = self.bodies[id as usize].expect("live object").plan;
         let mut v = plan.velocity_at(self.now);
         // Only a ball moving into the wall turns; rounding cannot make it turn twice.
