@@ -19,9 +19,9 @@
 //! world.set_plan(b, FlightPlan::linear(Vec3::new(4.0, 0.0, 0.0), Vec3::new(0.5, 0.0, 0.0)).starting_at(2.0))?;
 //! world.advance_to(10.0)?;
 //! let events = world.drain_events();
-//! assert_eq!(events.len(), 2); // a catches b at t = 6 and passes through it
+//! assert_eq!(events.len(), 2); // a catches b at t = 4 and is through it at t = 8
 //! assert_eq!((events[0].a, events[0].b, events[0].kind), (a, b, ContactKind::Begin));
-//! assert!((events[0].time - 6.0).abs() < 1e-12);
+//! assert!((events[0].time - 4.0).abs() < 1e-12);
 //! world.remove(a)?;
 //! # Ok::<(), kinetic_collide::WorldError>(())
 //! ```

@@ -128,15 +128,14 @@ fn make_structure(
 
 /// Runs `scene` to its horizon with the named structure (or the chosen one).
 pub fn run_scene(scene: &Scene, structure: Option<StructureName>) -> Result<RunOutput, RunError> {
-    if let Some((i, _)) = scene
-        .objects
-        .iter()
-        .enumerate()
-        .find(|(_, o)| !matches!(o.shape, ShapeSpec::Ball { .. }))
-    {
-        return Err(RunError::Input(format!(
-            "objects[{i}].shape: cuboids and convex hulls are not supported yet (they come with the free-flight module)"
-        )));
+    let mut radii = Vec::with_capacity(scene.objects.len());
+    for (i, o) in scene.objects.iter().enumerate() {
+        let ShapeSpec::Ball { radius } = o.shape else {
+            return Err(RunError::Input(format!(
+                "objects[{i}].shape: cuboids and convex hulls are not supported yet (they come with the free-flight module)"
+            )));
+        };
+        radii.push(radius);
     }
     let name = structure.unwrap_or_else(|| choose_structure(scene));
     let mut world = World::with_structure(
@@ -147,10 +146,7 @@ pub fn run_scene(scene: &Scene, structure: Option<StructureName>) -> Result<RunO
     )
     .map_err(|e| RunError::Input(format!("walls: {e}")))?;
     let start = Instant::now();
-    for (i, o) in scene.objects.iter().enumerate() {
-        let ShapeSpec::Ball { radius } = o.shape else {
-            unreachable!("checked above")
-        };
+    for (i, (o, radius)) in scene.objects.iter().zip(radii).enumerate() {
         world
             .add_ball(radius, o.plan())
             .map_err(|e| RunError::Input(format!("objects[{i}]: {e}")))?;
