@@ -126,8 +126,12 @@ fn make_structure(
     }
 }
 
-/// Runs `scene` to its horizon with the named structure (or the chosen one).
-pub fn run_scene(scene: &Scene, structure: Option<StructureName>) -> Result<RunOutput, RunError> {
+/// The world of `scene` at t = 0 with the named structure (or the chosen one).
+pub fn build_world(
+    scene: &Scene,
+    structure: Option<StructureName>,
+) -> Result<(World, StructureName), RunError> {
+    let name = structure.unwrap_or_else(|| choose_structure(scene));
     let mut radii = Vec::with_capacity(scene.objects.len());
     for (i, o) in scene.objects.iter().enumerate() {
         let ShapeSpec::Ball { radius } = o.shape else {
@@ -137,7 +141,6 @@ pub fn run_scene(scene: &Scene, structure: Option<StructureName>) -> Result<RunO
         };
         radii.push(radius);
     }
-    let name = structure.unwrap_or_else(|| choose_structure(scene));
     let mut world = World::with_structure(
         scene.world,
         scene.response,
@@ -145,12 +148,18 @@ pub fn run_scene(scene: &Scene, structure: Option<StructureName>) -> Result<RunO
         make_structure(scene, name)?,
     )
     .map_err(|e| RunError::Input(format!("walls: {e}")))?;
-    let start = Instant::now();
     for (i, (o, radius)) in scene.objects.iter().zip(radii).enumerate() {
         world
             .add_ball(radius, o.plan())
             .map_err(|e| RunError::Input(format!("objects[{i}]: {e}")))?;
     }
+    Ok((world, name))
+}
+
+/// Runs `scene` to its horizon with the named structure (or the chosen one).
+pub fn run_scene(scene: &Scene, structure: Option<StructureName>) -> Result<RunOutput, RunError> {
+    let start = Instant::now();
+    let (mut world, name) = build_world(scene, structure)?;
     let result = world.advance_to(scene.horizon);
     let output = RunOutput {
         structure: name,

@@ -1,25 +1,14 @@
 //! The brute-force reference on seeded random scenes, against direct overlap tests at sample
 //! times: the contact state implied by the event log must match the geometry.
 
+use kinetic_collide::run::{StructureName, build_world};
 use kinetic_collide::scenes::BallScene;
-use kinetic_collide::{BruteForce, ContactKind, ObjectId, Response, World, WorldKind};
+use kinetic_collide::{ContactKind, ObjectId, Response, World, WorldKind};
 use std::collections::BTreeSet;
 
 fn check(params: BallScene) -> usize {
     let scene = params.build();
-    let mut world = World::with_structure(
-        scene.world,
-        scene.response,
-        scene.walls,
-        Box::new(BruteForce::new()),
-    )
-    .unwrap();
-    for o in &scene.objects {
-        let kinetic_collide::scene::ShapeSpec::Ball { radius } = o.shape else {
-            unreachable!()
-        };
-        world.add_ball(radius, o.plan()).unwrap();
-    }
+    let (mut world, _) = build_world(&scene, Some(StructureName::BruteForce)).unwrap();
     let mut touching: BTreeSet<(u32, u32)> = BTreeSet::new();
     let samples = 40;
     let mut total = 0;
@@ -155,19 +144,7 @@ fn elastic_gas_in_a_box_keeps_energy() {
             })
             .sum()
     };
-    let mut world = World::with_structure(
-        scene.world,
-        scene.response,
-        scene.walls,
-        Box::new(BruteForce::new()),
-    )
-    .unwrap();
-    for o in &scene.objects {
-        let kinetic_collide::scene::ShapeSpec::Ball { radius } = o.shape else {
-            unreachable!()
-        };
-        world.add_ball(radius, o.plan()).unwrap();
-    }
+    let (mut world, _) = build_world(&scene, Some(StructureName::BruteForce)).unwrap();
     let e0 = energy(&world);
     while world.step(scene.horizon).unwrap().is_some() {
         world.validate().unwrap();
