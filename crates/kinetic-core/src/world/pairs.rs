@@ -273,7 +273,7 @@ impl World {
         )
     }
 
-    fn plan_of(&self, id: u32) -> crate::FlightPlan {
+    pub(crate) fn plan_of(&self, id: u32) -> crate::FlightPlan {
         self.bodies[id as usize].as_ref().expect("live object").plan
     }
 

@@ -151,7 +151,7 @@ impl World {
     /// tangency points on a plane), masses proportional to radius cubed. Returns whether the
     /// velocities changed (they do not for balls that are not approaching).
     fn collide(&mut self, a: u32, b: u32) -> bool {
-        let (pa, pb) = (self.plan_of_body(a), self.plan_of_body(b));
+        let (pa, pb) = (self.plan_of(a), self.plan_of(b));
         let n = pa.position_at(self.now) - pb.position_at(self.now);
         let len = n.length();
         if len == 0.0 || !len.is_finite() {
@@ -170,10 +170,6 @@ impl World {
         self.replan(a, pa.replanned(self.now, va - n * (wa * u)));
         self.replan(b, pb.replanned(self.now, vb + n * (wb * u)));
         true
-    }
-
-    fn plan_of_body(&self, id: u32) -> FlightPlan {
-        self.bodies[id as usize].as_ref().expect("live object").plan
     }
 
     /// Installs a new plan for `id` and reschedules exactly its certificates.
