@@ -5,6 +5,7 @@ use crate::scene::{Scene, ShapeSpec};
 use kinetic_core::{
     BruteForce, CandidateStructure, ContactEvent, ContactKind, Stats, World, WorldError, WorldKind,
 };
+use kinetic_rolling::{ListLayout, RollingTree};
 use std::fmt::Write as _;
 use std::time::Instant;
 
@@ -89,14 +90,20 @@ pub struct RunOutput {
     pub events: Vec<ContactEvent>,
     /// Run statistics.
     pub stats: Stats,
+    /// The structure's own figures, by name.
+    pub structure_stats: Vec<(&'static str, f64)>,
     /// Wall-clock seconds of the detection (excluding parsing and writing).
     pub wall_seconds: f64,
 }
 
 /// The structure a scene gets when none is named: the lightest one that is exact for it.
-/// Until the rolling and free-flight modules land, that is the brute force everywhere.
-pub fn choose_structure(_scene: &Scene) -> StructureName {
-    StructureName::BruteForce
+/// A plane world gets the rolling collision tree; free worlds get the brute force until the
+/// free-flight module lands.
+pub fn choose_structure(scene: &Scene) -> StructureName {
+    match scene.world {
+        WorldKind::Plane => StructureName::RollingTree,
+        WorldKind::Free => StructureName::BruteForce,
+    }
 }
 
 fn make_structure(
@@ -105,9 +112,13 @@ fn make_structure(
 ) -> Result<Box<dyn CandidateStructure>, RunError> {
     match name {
         StructureName::BruteForce => Ok(Box::new(BruteForce::new())),
-        StructureName::RollingTree | StructureName::RollingGlobalLists
-            if scene.world == WorldKind::Free =>
-        {
+        StructureName::RollingTree if scene.world == WorldKind::Plane => {
+            Ok(Box::new(RollingTree::new(ListLayout::PerNode)))
+        }
+        StructureName::RollingGlobalLists if scene.world == WorldKind::Plane => {
+            Ok(Box::new(RollingTree::new(ListLayout::Global)))
+        }
+        StructureName::RollingTree | StructureName::RollingGlobalLists => {
             Err(RunError::Input(format!(
                 "--structure {}: applies to \"plane\" worlds only",
                 name.as_str()
@@ -148,11 +159,13 @@ pub fn build_world(
         make_structure(scene, name)?,
     )
     .map_err(|e| RunError::Input(format!("walls: {e}")))?;
-    for (i, (o, radius)) in scene.objects.iter().zip(radii).enumerate() {
-        world
-            .add_ball(radius, o.plan())
-            .map_err(|e| RunError::Input(format!("objects[{i}]: {e}")))?;
-    }
+    world
+        .add_balls(
+            radii
+                .into_iter()
+                .zip(scene.objects.iter().map(|o| o.plan())),
+        )
+        .map_err(|e| RunError::Input(format!("objects: {e}")))?;
     Ok((world, name))
 }
 
@@ -167,6 +180,7 @@ pub fn run_scene(scene: &Scene, structure: Option<StructureName>) -> Result<RunO
         horizon: scene.horizon,
         events: world.drain_events(),
         stats: world.stats().clone(),
+        structure_stats: world.structure_counters(),
         wall_seconds: start.elapsed().as_secs_f64(),
     };
     match result {
@@ -212,6 +226,7 @@ impl RunOutput {
             "candidate_pairs": {"max": s.candidate_pairs_max, "mean": s.candidate_pairs_mean()},
             "contacts": {"begin": s.begins, "end": s.ends},
             "bounces": s.bounces,
+            "structure_stats": self.structure_stats.iter().map(|&(k, v)| (k.to_string(), serde_json::json!(v))).collect::<serde_json::Map<_, _>>(),
             "wall_seconds": self.wall_seconds,
         });
         let mut text = serde_json::to_string_pretty(&value).unwrap_or_default();

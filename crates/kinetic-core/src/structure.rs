@@ -29,6 +29,19 @@ pub trait CandidateStructure: std::fmt::Debug {
     fn name(&self) -> &'static str;
     /// Object `id` (already in `bodies`) joins at time `now`.
     fn insert(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>);
+    /// Objects `ids` (already in `bodies`) join at time `now` together: a structure that can
+    /// build in bulk does so here (the default inserts them one by one).
+    fn insert_many(
+        &mut self,
+        ids: &[u32],
+        bodies: &Bodies,
+        now: Real,
+        changes: &mut Vec<PairChange>,
+    ) {
+        for &id in ids {
+            self.insert(id, bodies, now, changes);
+        }
+    }
     /// Object `id` (still in `bodies`) leaves at time `now`.
     fn remove(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>);
     /// Object `id` has a new flight plan from `now` on.
@@ -43,6 +56,10 @@ pub trait CandidateStructure: std::fmt::Debug {
     ) -> &'static str;
     /// The number of certificates the structure itself holds (pair certificates excluded).
     fn certificates(&self) -> usize;
+    /// The structure's own figures for the statistics, by name (none by default).
+    fn counters(&self) -> Vec<(&'static str, f64)> {
+        Vec::new()
+    }
     /// Recomputes the structure's invariants from scratch at time `now`.
     fn validate(&self, bodies: &Bodies, now: Real) -> Result<(), String>;
 }

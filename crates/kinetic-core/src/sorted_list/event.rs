@@ -56,4 +56,22 @@ impl KineticSortedList {
         self.now = t;
         Ok(())
     }
+
+    /// Moves the list's clock to `t` without processing anything: for a list that is one of
+    /// many driven by an outside event queue, before it is changed at time `t`. Swaps due at
+    /// exactly `t` stay pending; one due before `t` is an error (it would be skipped).
+    pub fn advance_clock(&mut self, t: Real) -> Result<(), SortedListError> {
+        if t < self.now || t.is_nan() {
+            return Err(SortedListError::Backwards {
+                now: self.now,
+                to: t,
+            });
+        }
+        let due = self.next_event_time();
+        if due < t {
+            return Err(SortedListError::Pending { due, to: t });
+        }
+        self.now = t;
+        Ok(())
+    }
 }

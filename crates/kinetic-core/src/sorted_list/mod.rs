@@ -73,6 +73,14 @@ pub enum SortedListError {
         /// The time asked for.
         to: Real,
     },
+    /// The clock cannot skip a pending swap.
+    #[error("a swap is due at {due}, before {to}")]
+    Pending {
+        /// When the pending swap is due.
+        due: Real,
+        /// The time asked for.
+        to: Real,
+    },
 }
 
 impl KineticSortedList {

@@ -288,6 +288,11 @@ impl World {
         self.structure.name()
     }
 
+    /// The candidate structure's own figures (see [`CandidateStructure::counters`]).
+    pub fn structure_counters(&self) -> Vec<(&'static str, f64)> {
+        self.structure.counters()
+    }
+
     /// The statistics so far.
     pub fn stats(&self) -> &Stats {
         &self.stats
@@ -327,6 +332,47 @@ impl World {
     /// `t0` is extrapolated to now. In a plane world only x and y are used.
     pub fn add_ball(&mut self, radius: Real, plan: FlightPlan) -> Result<ObjectId, WorldError> {
         let object = self.bodies.len() as u32;
+        let body = self.check_ball(object, radius, plan)?;
+        self.bodies.push(Some(body));
+        self.wall_due.push(None);
+        let mut changes = std::mem::take(&mut self.changes);
+        self.structure
+            .insert(object, &self.bodies, self.now, &mut changes);
+        self.apply_changes(&mut changes);
+        self.changes = changes;
+        self.refresh_walls(object);
+        Ok(ObjectId(object))
+    }
+
+    /// Adds balls `(radius, plan)` together at the current time, so that the structure can
+    /// build in bulk. Nothing is added if any ball is invalid.
+    pub fn add_balls(
+        &mut self,
+        balls: impl IntoIterator<Item = (Real, FlightPlan)>,
+    ) -> Result<Vec<ObjectId>, WorldError> {
+        let first = self.bodies.len() as u32;
+        let mut new = Vec::new();
+        for (k, (radius, plan)) in balls.into_iter().enumerate() {
+            new.push(self.check_ball(first + k as u32, radius, plan)?);
+        }
+        let ids: Vec<u32> = (first..first + new.len() as u32).collect();
+        for body in new {
+            self.bodies.push(Some(body));
+            self.wall_due.push(None);
+        }
+        let mut changes = std::mem::take(&mut self.changes);
+        self.structure
+            .insert_many(&ids, &self.bodies, self.now, &mut changes);
+        self.apply_changes(&mut changes);
+        self.changes = changes;
+        for &id in &ids {
+            self.refresh_walls(id);
+        }
+        Ok(ids.into_iter().map(ObjectId).collect())
+    }
+
+    /// A valid ball body for id `object`, or why not.
+    fn check_ball(&self, object: u32, radius: Real, plan: FlightPlan) -> Result<Body, WorldError> {
         if !(radius.is_finite() && radius > 0.0) {
             return Err(WorldError::InvalidRadius {
                 object,
@@ -344,20 +390,16 @@ impl World {
                 return Err(WorldError::OutsideWalls { object });
             }
         }
-        self.bodies.push(Some(body));
-        self.wall_due.push(None);
-        let mut changes = std::mem::take(&mut self.changes);
-        self.structure
-            .insert(object, &self.bodies, self.now, &mut changes);
-        self.apply_changes(&mut changes);
-        self.changes = changes;
-        self.refresh_walls(object);
-        Ok(ObjectId(object))
+        Ok(body)
     }
 
     /// Removes an object; its pairs go without events (a contact it was in is not ended).
     pub fn remove(&mut self, id: ObjectId) -> Result<Body, WorldError> {
         let body = *self.body(id).ok_or(WorldError::UnknownObject(id.0))?;
+        // Its pairs go silently: not as contacts that end.
+        for slot in self.pairs.slots_of(id.0) {
+            self.pairs.get_mut(slot).touching = false;
+        }
         let mut changes = std::mem::take(&mut self.changes);
         self.structure
             .remove(id.0, &self.bodies, self.now, &mut changes);

@@ -51,26 +51,48 @@ pub(crate) struct Walk {
 }
 
 impl Walk {
-    /// The contact walk of gap `f` (local time around `now`) for an object pair in state
-    /// `touching` under no response: begins, ends and grazes.
-    pub(crate) fn contact(f: &Poly, now: Real, touching: bool) -> Walk {
-        let mut w = Walk::empty(now, roots_after_zero(f), Roots::default(), touching);
+    /// The contact walk of gap `f` (local time around `made`, at or before `now`) for an
+    /// object pair in state `touching` at `now` under no response: begins, ends and grazes
+    /// after `now`.
+    pub(crate) fn contact(f: &Poly, made: Real, now: Real, touching: bool) -> Walk {
+        let mut w = Walk::empty(made, roots_after_zero(f), Roots::default(), touching);
+        w.skip_to(now);
         w.advance_contact();
         w
     }
 
-    /// The collision walk of gap `f` under the elastic response: the first time at which
-    /// `f <= 0` and `f' < 0` (touching and approaching); grazes as [`Due::Graze`].
-    pub(crate) fn elastic(f: &Poly, now: Real) -> Walk {
+    /// The collision walk of gap `f` (local time around `made`) under the elastic response:
+    /// the first time after `now` at which `f <= 0` and `f' < 0` (touching and approaching);
+    /// grazes as [`Due::Graze`]. `f_now` is the same gap around `now`, for the state now.
+    pub(crate) fn elastic(f: &Poly, made: Real, now: Real, f_now: &Poly) -> Walk {
         let g = f.derivative();
-        let inside = f.sign_just_after_zero() < 0;
-        let mut w = Walk::empty(now, roots_after_zero(f), roots_after_zero(&g), inside);
-        if (inside || f.c[0] == 0.0) && g.sign_just_after_zero() < 0 {
+        let inside = f_now.sign_just_after_zero() < 0;
+        let mut w = Walk::empty(made, roots_after_zero(f), roots_after_zero(&g), inside);
+        w.skip_to(now);
+        if (inside || f_now.c[0] == 0.0) && f_now.derivative().sign_just_after_zero() < 0 {
             w.due = Some((now, Source::Now, Due::Begin));
         } else {
             w.advance_elastic();
         }
         w
+    }
+
+    /// Skips the roots at or before `now` (the state now is known).
+    fn skip_to(&mut self, now: Real) {
+        while self
+            .f
+            .get(self.f_next as usize)
+            .is_some_and(|r| self.made + r.tau <= now)
+        {
+            self.f_next += 1;
+        }
+        while self
+            .g
+            .get(self.g_next as usize)
+            .is_some_and(|r| self.made + r.tau <= now)
+        {
+            self.g_next += 1;
+        }
     }
 
     fn empty(made: Real, f: Roots, g: Roots, inside: bool) -> Walk {
@@ -260,6 +282,11 @@ impl PairTable {
 impl World {
     /// The gap polynomial of a pair around the current time.
     pub(crate) fn gap(&self, a: u32, b: u32) -> Poly {
+        self.gap_at(a, b, self.now)
+    }
+
+    /// The gap polynomial in local time around `t`.
+    fn gap_at(&self, a: u32, b: u32, t: Real) -> Poly {
         let (pa, pb) = (self.plan_of(a), self.plan_of(b));
         let (ra, rb) = (self.radius(a), self.radius(b));
         let threshold2 = match self.kind {
@@ -267,10 +294,18 @@ impl World {
             WorldKind::Plane => 4.0 * ra * rb,
         };
         ball_ball_gap(
-            &pa.local_coefficients(self.now),
-            &pb.local_coefficients(self.now),
+            &pa.local_coefficients(t),
+            &pb.local_coefficients(t),
             threshold2,
         )
+    }
+
+    /// The gap around the time both current plans began (not after now): it depends only on
+    /// the plans, not on when a structure made the pair a candidate, so every structure finds
+    /// the same roots, bit for bit.
+    fn canonical_gap(&self, a: u32, b: u32) -> (Real, Poly) {
+        let base = self.plan_of(a).t0.max(self.plan_of(b).t0).min(self.now);
+        (base, self.gap_at(a, b, base))
     }
 
     pub(crate) fn plan_of(&self, id: u32) -> crate::FlightPlan {
@@ -285,6 +320,13 @@ impl World {
                     let cert = self.pairs.get_mut(slot);
                     cert.refs = cert.refs.saturating_add_signed(ch.delta);
                     if cert.refs == 0 {
+                        // A structure lets a touching pair go only at the instant its contact
+                        // ends (a box and the contact disk meet on the box's edge), when
+                        // rounding put the structure's event first: the contact ends now.
+                        if cert.touching {
+                            let (a, b) = (cert.a, cert.b);
+                            self.log(a, b, ContactKind::End);
+                        }
                         self.drop_pair(slot);
                     }
                 }
@@ -297,6 +339,7 @@ impl World {
     /// A new candidate pair: its state now decides the events reported at once.
     fn new_pair(&mut self, a: u32, b: u32, refs: u32) {
         let f = self.gap(a, b);
+        let (base, fb) = self.canonical_gap(a, b);
         let touching_now = f.c[0] <= 0.0;
         let after = f.sign_just_after_zero();
         let (walk, touching) = match self.response {
@@ -308,9 +351,9 @@ impl World {
                     }
                 }
                 let touching = touching_now && after <= 0;
-                (Walk::contact(&f, self.now, touching), touching)
+                (Walk::contact(&fb, base, self.now, touching), touching)
             }
-            Response::Elastic => (Walk::elastic(&f, self.now), false),
+            Response::Elastic => (Walk::elastic(&fb, base, self.now, &f), false),
         };
         let slot = self.pairs.insert(PairCertificate {
             a,
@@ -329,6 +372,7 @@ impl World {
             (c.a, c.b)
         };
         let f = self.gap(a, b);
+        let (base, fb) = self.canonical_gap(a, b);
         let walk = match self.response {
             Response::None => {
                 let was = self.pairs.get(slot).touching;
@@ -339,9 +383,9 @@ impl World {
                     _ => {}
                 }
                 self.pairs.get_mut(slot).touching = now_touching;
-                Walk::contact(&f, self.now, now_touching)
+                Walk::contact(&fb, base, self.now, now_touching)
             }
-            Response::Elastic => Walk::elastic(&f, self.now),
+            Response::Elastic => Walk::elastic(&fb, base, self.now, &f),
         };
         self.pairs.get_mut(slot).walk = walk;
         self.schedule_pair(slot);

@@ -1,6 +1,7 @@
 //! The audit of the simulator.
 
 use super::{Response, World};
+use crate::math::Real;
 
 impl World {
     /// Recomputes the invariants from scratch: the structure's own; every candidate pair
@@ -43,19 +44,30 @@ impl World {
                 }
             }
         }
-        let live: Vec<u32> = (0..self.bodies.len() as u32)
+        // Every overlapping pair is a candidate. Touching balls overlap in x by their radii
+        // (on a plane the reach 2 sqrt(ra rb) is at most ra + rb), so a sweep over x finds
+        // every pair that could overlap.
+        let mut spans: Vec<(Real, Real, u32)> = (0..self.bodies.len() as u32)
             .filter(|&i| self.bodies[i as usize].is_some())
+            .map(|i| {
+                let (x, r) = (self.plan_of(i).position_at(self.now).x, self.radius(i));
+                (x - r, x + r, i)
+            })
             .collect();
-        if live.len() <= 2000 {
-            for (i, &a) in live.iter().enumerate() {
-                for &b in &live[i + 1..] {
-                    if self.pairs.find(a, b).is_none() && self.gap(a, b).c[0] < 0.0 {
-                        return Err(format!(
-                            "objects {a} and {b} overlap but are not a candidate pair"
-                        ));
-                    }
+        spans.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.2.cmp(&q.2)));
+        let mut open: Vec<(Real, u32)> = Vec::new();
+        for &(lo, hi, b) in &spans {
+            open.retain(|&(h, _)| h >= lo);
+            for &(_, a) in &open {
+                if self.pairs.find(a, b).is_none() && self.gap(a.min(b), a.max(b)).c[0] < 0.0 {
+                    return Err(format!(
+                        "objects {} and {} overlap but are not a candidate pair",
+                        a.min(b),
+                        a.max(b)
+                    ));
                 }
             }
+            open.push((hi, b));
         }
         Ok(())
     }

@@ -30,7 +30,7 @@ impl World {
             for (upper, at) in [(false, walls.min[axis]), (true, walls.max[axis])] {
                 let w = wall_gap(&centre, r, axis, at, upper);
                 // Only collisions count: a ball grazing a wall does not bounce.
-                let mut walk = Walk::elastic(&w, self.now);
+                let mut walk = Walk::elastic(&w, self.now, self.now, &w);
                 while let Some((_, _, Due::Graze)) = walk.due {
                     walk.consume(Response::Elastic);
                 }
