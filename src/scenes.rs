@@ -57,7 +57,27 @@ impl BallScene {
         }
     }
 
-    /// A gas of free balls, for tests and benches.
+    /// The rolling benchmark: `n` balls on a plane with radii from 0.01 to 10 (log-uniform,
+    /// ratio 1000), moving linearly at speeds up to 1 through each other (no response), at a
+    /// density that does not change with `n` (side 10 sqrt(n)).
+    pub fn rolling(n: usize, horizon: f64, seed: u64) -> BallScene {
+        BallScene {
+            n,
+            r_min: 0.01,
+            r_max: 10.0,
+            side: 10.0 * (n as f64).sqrt(),
+            speed: 1.0,
+            acceleration: 0.0,
+            world: WorldKind::Plane,
+            response: Response::None,
+            walls: false,
+            allow_overlap: true,
+            horizon,
+            seed,
+        }
+    }
+
+    /// A gas of `n` equal balls (radius 0.5) flying freely through each other in 3-space.
     pub fn gas(n: usize, seed: u64) -> BallScene {
         BallScene {
             n,

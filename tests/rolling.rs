@@ -331,3 +331,40 @@ fn balls_added_and_removed_mid_run() {
         );
     }
 }
+
+/// The most threshold boxes (of one node) that held one tangency point during a short elastic
+/// run of `n` disjoint balls, radii over three orders of magnitude, at a fixed density.
+fn most_boxes_per_point(n: usize) -> f64 {
+    let mut params = plane(n, 0.01, 10.0, 4.0 * (n as f64).sqrt(), 4);
+    params.response = Response::Elastic;
+    params.walls = true;
+    params.allow_overlap = false;
+    params.horizon = 1.0;
+    let scene = params.build();
+    let (mut world, _) = build_world(&scene, Some(StructureName::RollingTree)).unwrap();
+    // Lemma 2 is about disjoint balls: none may overlap at the start (the elastic response
+    // keeps them apart).
+    world.advance_to(0.0).unwrap();
+    assert!(
+        world.drain_events().is_empty(),
+        "overlapping balls at n = {n}"
+    );
+    world.advance_to(scene.horizon).unwrap();
+    world.validate().unwrap();
+    let counters = world.structure_counters();
+    counters
+        .iter()
+        .find(|c| c.0 == "max_boxes_per_point")
+        .unwrap()
+        .1
+}
+
+#[test]
+fn lemma_4_boxes_per_point_stay_bounded() {
+    let most: Vec<f64> = [100, 1000, 10_000].map(most_boxes_per_point).to_vec();
+    eprintln!("most boxes per point at n = 100, 1000, 10000: {most:?}");
+    // Lemma 4 (Lemma 2 with c = sqrt 2): at most (8 c^2 + 2 c + 1)^2 + 1 < 394.
+    assert!(most.iter().all(|&m| (1.0..394.0).contains(&m)), "{most:?}");
+    // And it does not creep up with n: log2 n grows by 6.6 from the first to the last.
+    assert!(most[2] <= most[0] + 2.0, "{most:?}");
+}

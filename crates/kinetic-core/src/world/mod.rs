@@ -214,6 +214,8 @@ pub struct World {
     walls: Option<Walls>,
     now: Real,
     bodies: Vec<Option<Body>>,
+    /// How many of `bodies` are live.
+    live: usize,
     structure: Box<dyn CandidateStructure>,
     pairs: pairs::PairTable,
     /// Pair certificate failures, by pair slot; ties by `(a, b)`.
@@ -255,6 +257,7 @@ impl World {
             walls,
             now: 0.0,
             bodies: Vec::new(),
+            live: 0,
             structure,
             pairs: pairs::PairTable::default(),
             pair_queue: EventQueue::new(),
@@ -300,7 +303,7 @@ impl World {
 
     /// Number of live objects.
     pub fn len(&self) -> usize {
-        self.bodies.iter().filter(|b| b.is_some()).count()
+        self.live
     }
 
     /// Whether there are no live objects.
@@ -334,6 +337,7 @@ impl World {
         let object = self.bodies.len() as u32;
         let body = self.check_ball(object, radius, plan)?;
         self.bodies.push(Some(body));
+        self.live += 1;
         self.wall_due.push(None);
         let mut changes = std::mem::take(&mut self.changes);
         self.structure
@@ -356,6 +360,7 @@ impl World {
             new.push(self.check_ball(first + k as u32, radius, plan)?);
         }
         let ids: Vec<u32> = (first..first + new.len() as u32).collect();
+        self.live += new.len();
         for body in new {
             self.bodies.push(Some(body));
             self.wall_due.push(None);
@@ -409,6 +414,7 @@ impl World {
             self.drop_pair(slot);
         }
         self.bodies[id.0 as usize] = None;
+        self.live -= 1;
         self.wall_queue.remove(id.0);
         self.wall_due[id.0 as usize] = None;
         Ok(body)
