@@ -26,6 +26,24 @@
 //! # Ok::<(), kinetic_collide::WorldError>(())
 //! ```
 //!
+//! Balls rolling on a plane get the collision tree of the paper's Section 2
+//! ([`RollingTree`]) as their candidate structure:
+//!
+//! ```
+//! use kinetic_collide::{FlightPlan, ListLayout, Response, RollingTree, Vec3, World, WorldKind};
+//!
+//! let tree = Box::new(RollingTree::new(ListLayout::PerNode));
+//! let mut world = World::with_structure(WorldKind::Plane, Response::Elastic, None, tree)?;
+//! world.add_balls([
+//!     (0.1, FlightPlan::linear(Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0))),
+//!     (10.0, FlightPlan::at_rest(Vec3::new(5.0, 0.0, 0.0))),
+//! ])?;
+//! world.advance_to(10.0)?;
+//! // The marble meets the big ball when their tangency points are 2 sqrt(0.1 * 10) = 2 apart.
+//! assert_eq!(world.drain_events()[0].time, 3.0);
+//! # Ok::<(), kinetic_collide::WorldError>(())
+//! ```
+//!
 //! Bad input gives a typed error ([`WorldError`], [`scene::SceneError`]) naming what is
 //! wrong; nothing panics on user data. Scene files and the command-line tool follow the scene
 //! format (see the README).
@@ -37,3 +55,4 @@ pub mod scene;
 pub mod scenes;
 
 pub use kinetic_core::*;
+pub use kinetic_rolling::{ListLayout, RollingTree};

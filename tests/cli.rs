@@ -371,3 +371,31 @@ fn scene_round_trips_through_json() {
     let again = kinetic_collide::scene::Scene::from_json(&scene.to_json()).unwrap();
     assert_eq!(scene, again);
 }
+
+#[test]
+fn plane_scenes_run_on_the_rolling_tree_and_match_the_brute_force() {
+    let dir = temp_dir("rolling");
+    let mut params = kinetic_collide::scenes::BallScene::marbles_on_a_table();
+    params.n = 120;
+    params.horizon = 10.0;
+    let scene = params.build().to_json();
+    let (status, err, chosen, stats) = run(&dir, &scene, &[]);
+    assert_eq!(status, 0, "{err}");
+    let stats: serde_json::Value = serde_json::from_str(&stats.unwrap()).unwrap();
+    assert_eq!(stats["structure"], "rolling-tree");
+    let boxes = stats["structure_stats"]["max_boxes_per_point"]
+        .as_f64()
+        .unwrap();
+    assert!(boxes >= 1.0, "{stats}");
+    let chosen = chosen.unwrap();
+    assert!(chosen.lines().count() > 20, "{chosen}");
+    for name in ["rolling-global-lists", "brute-force"] {
+        let (status, err, events, stats) = run(&dir, &scene, &["--structure", name]);
+        assert_eq!(status, 0, "{err}");
+        let stats: serde_json::Value = serde_json::from_str(&stats.unwrap()).unwrap();
+        assert_eq!(stats["structure"], name);
+        // Every structure makes the same certificates for the same pair (they depend on the
+        // flight plans only), so the logs are identical, byte for byte.
+        assert_eq!(events.unwrap(), chosen, "{name}");
+    }
+}
