@@ -60,20 +60,13 @@ fn assert_same_log(reference: &[ContactEvent], got: &[ContactEvent], what: &str)
     );
 }
 
+/// The rolling bench scene with other radii and side: no response, linear, horizon 10.
 fn plane(n: usize, r_min: f64, r_max: f64, side: f64, seed: u64) -> BallScene {
     BallScene {
-        n,
         r_min,
         r_max,
         side,
-        speed: 1.0,
-        acceleration: 0.0,
-        world: WorldKind::Plane,
-        response: Response::None,
-        walls: false,
-        allow_overlap: true,
-        horizon: 10.0,
-        seed,
+        ..BallScene::rolling(n, 10.0, seed)
     }
 }
 
