@@ -359,3 +359,106 @@ fn bad_input_is_a_typed_error() {
         Err(WorldError::UnknownObject(9))
     ));
 }
+
+/// A structure that makes pair (0, 1) a candidate at one given time, for the case below.
+#[derive(Debug)]
+struct AddPairAt(f64, bool);
+
+impl kinetic_core::CandidateStructure for AddPairAt {
+    fn name(&self) -> &'static str {
+        "add-pair-at"
+    }
+    fn insert(
+        &mut self,
+        _: u32,
+        _: &kinetic_core::Bodies,
+        _: f64,
+        _: &mut Vec<kinetic_core::PairChange>,
+    ) {
+    }
+    fn remove(
+        &mut self,
+        _: u32,
+        _: &kinetic_core::Bodies,
+        _: f64,
+        _: &mut Vec<kinetic_core::PairChange>,
+    ) {
+    }
+    fn replan(
+        &mut self,
+        _: u32,
+        _: &kinetic_core::Bodies,
+        _: f64,
+        _: &mut Vec<kinetic_core::PairChange>,
+    ) {
+    }
+    fn next_event_time(&self) -> f64 {
+        if self.1 { f64::INFINITY } else { self.0 }
+    }
+    fn process_next_event(
+        &mut self,
+        _: &kinetic_core::Bodies,
+        changes: &mut Vec<kinetic_core::PairChange>,
+    ) -> &'static str {
+        self.1 = true;
+        changes.push(kinetic_core::PairChange {
+            a: 0,
+            b: 1,
+            delta: 1,
+        });
+        "add"
+    }
+    fn certificates(&self) -> usize {
+        0
+    }
+    fn validate(&self, _: &kinetic_core::Bodies, _: f64) -> Result<(), String> {
+        Ok(())
+    }
+}
+
+#[test]
+fn contact_beginning_as_its_pair_is_added_is_not_lost_to_rounding() {
+    // A structure adds the pair at the contact time (as a box event tied with the contact
+    // does); the certificate's roots come from plans made at t = 0, the state from the gap
+    // at the moment of adding, and the two round differently. The begin must be reported
+    // once, at that moment, whichever way rounding goes.
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+    for trial in 0..2000 {
+        let offset = Vec3::new(
+            rng.random_range(-1e3..1e3),
+            rng.random_range(-1e3..1e3),
+            0.0,
+        );
+        let (r, d, v) = (
+            rng.random_range(0.1..2.0),
+            rng.random_range(5.0..50.0),
+            rng.random_range(0.3..3.0),
+        );
+        let t_contact = (d - 2.0 * r) / v;
+        let mut w = World::with_structure(
+            WorldKind::Free,
+            Response::None,
+            None,
+            Box::new(AddPairAt(t_contact, false)),
+        )
+        .unwrap();
+        w.add_ball(r, FlightPlan::linear(offset, Vec3::new(v, 0.0, 0.0)))
+            .unwrap();
+        w.add_ball(r, FlightPlan::at_rest(offset + Vec3::new(d, 0.0, 0.0)))
+            .unwrap();
+        // Halfway through the contact: one begin, no end yet.
+        let events = run(&mut w, t_contact + 2.0 * r / v);
+        assert!(!events.is_empty(), "trial {trial}: the contact was lost");
+        assert_eq!(
+            events[0].kind,
+            ContactKind::Begin,
+            "trial {trial}: {events:?}"
+        );
+        assert!(
+            (events[0].time - t_contact).abs() < 1e-9,
+            "trial {trial}: {events:?}"
+        );
+        assert_eq!(events.len(), 1, "trial {trial}: {events:?}");
+    }
+}

@@ -46,6 +46,8 @@ pub(crate) struct Walk {
     g_next: u8,
     /// `f < 0` (overlapping) at the walk's position.
     inside: bool,
+    /// No event is due before this (the time the walk was made for).
+    floor: Real,
     /// The next event, if any: `(time, source, kind)`.
     pub due: Option<(Real, Source, Due)>,
 }
@@ -77,20 +79,19 @@ impl Walk {
         w
     }
 
-    /// Skips the roots at or before `now` (the state now is known).
+    /// Skips the roots before `now` (the state now is known). Roots a hair before now (the
+    /// roots come from the gap around `made`, the state from the gap around `now`, and the
+    /// two round differently) are kept and fall due now if they contradict the state: a
+    /// contact that begins as a structure adds its pair is not lost to rounding.
     fn skip_to(&mut self, now: Real) {
-        while self
-            .f
-            .get(self.f_next as usize)
-            .is_some_and(|r| self.made + r.tau <= now)
-        {
+        self.floor = now;
+        let before = now - 1e-9 * now.abs().max(1.0);
+        let made = self.made;
+        let early = |r: Root| made + r.tau < before;
+        while self.f.get(self.f_next as usize).is_some_and(early) {
             self.f_next += 1;
         }
-        while self
-            .g
-            .get(self.g_next as usize)
-            .is_some_and(|r| self.made + r.tau <= now)
-        {
+        while self.g.get(self.g_next as usize).is_some_and(early) {
             self.g_next += 1;
         }
     }
@@ -103,6 +104,7 @@ impl Walk {
             f_next: 0,
             g_next: 0,
             inside,
+            floor: made,
             due: None,
         }
     }
@@ -129,7 +131,7 @@ impl Walk {
     }
 
     fn at(&self, r: Root, source: Source, kind: Due) -> Option<(Real, Source, Due)> {
-        Some((self.made + r.tau, source, kind))
+        Some(((self.made + r.tau).max(self.floor), source, kind))
     }
 
     fn advance_contact(&mut self) {
