@@ -120,15 +120,7 @@ impl RollingTree {
                 ks.push((id, key(&p, a, 0.0)));
             }
         }
-        for i in self.balls_of(n.child[1]) {
-            let (min, max) = self.new_box(&mut space, i, k);
-            let h = half_side(self.radius[i as usize], n.rho);
-            let p = plan(bodies, i);
-            for (a, ks) in keys.iter_mut().enumerate() {
-                ks.push((min, key(&p, a, -h)));
-                ks.push((max, key(&p, a, h)));
-            }
-        }
+        self.new_boxes(&mut space, k, bodies, &mut keys);
         for (a, ks) in keys.into_iter().enumerate() {
             space.lists[a] =
                 KineticSortedList::from_items(self.now, ks).expect("finite keys, distinct ids");
@@ -155,19 +147,24 @@ impl RollingTree {
         (min, max)
     }
 
-    /// Global layout: the boxes of node `k`, added to `fresh`.
-    fn make_boxes(&mut self, k: u32, bodies: &Bodies, fresh: &mut Fresh) {
+    /// The boxes of every large ball of node `k`: new items in `space`, their keys in `keys`.
+    fn new_boxes(&mut self, space: &mut Space, k: u32, bodies: &Bodies, keys: &mut Fresh) {
         let n = self.nodes[k as usize];
-        let mut space = self.spaces[0].take().expect("the global space");
         for i in self.balls_of(n.child[1]) {
-            let (min, max) = self.new_box(&mut space, i, k);
+            let (min, max) = self.new_box(space, i, k);
             let h = half_side(self.radius[i as usize], n.rho);
             let p = plan(bodies, i);
-            for (a, ks) in fresh.iter_mut().enumerate() {
+            for (a, ks) in keys.iter_mut().enumerate() {
                 ks.push((min, key(&p, a, -h)));
                 ks.push((max, key(&p, a, h)));
             }
         }
+    }
+
+    /// Global layout: the boxes of node `k`, added to `fresh`.
+    fn make_boxes(&mut self, k: u32, bodies: &Bodies, fresh: &mut Fresh) {
+        let mut space = self.spaces[0].take().expect("the global space");
+        self.new_boxes(&mut space, k, bodies, fresh);
         self.spaces[0] = Some(space);
     }
 
@@ -251,11 +248,7 @@ impl RollingTree {
         balls.extend(extra);
         let mut gone = Vec::new();
         self.teardown(u, &mut gone);
-        balls.sort_by(|&x, &y| {
-            self.radius[x as usize]
-                .total_cmp(&self.radius[y as usize])
-                .then(x.cmp(&y))
-        });
+        self.sort_by_radius(&mut balls);
         let new = if balls.is_empty() {
             NONE
         } else {
@@ -266,6 +259,15 @@ impl RollingTree {
             self.populate(new, bodies, changes, [Vec::new(), Vec::new()]);
         }
         changes.extend(gone);
+    }
+
+    /// Sorts balls by radius, then id: the order the tree splits in.
+    pub(crate) fn sort_by_radius(&self, balls: &mut [u32]) {
+        balls.sort_by(|&x, &y| {
+            self.radius[x as usize]
+                .total_cmp(&self.radius[y as usize])
+                .then(x.cmp(&y))
+        });
     }
 
     /// Puts `new` where `old` was below `parent` (or at the root).

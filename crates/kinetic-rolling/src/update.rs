@@ -56,11 +56,7 @@ impl RollingTree {
             }
         }
         let mut balls = ids.to_vec();
-        balls.sort_by(|&x, &y| {
-            self.radius[x as usize]
-                .total_cmp(&self.radius[y as usize])
-                .then(x.cmp(&y))
-        });
+        self.sort_by_radius(&mut balls);
         self.root = self.build_topology(&balls, NONE, 0);
         self.populate(self.root, bodies, changes, fresh);
     }

@@ -334,18 +334,7 @@ impl World {
     /// Adds a ball of `radius` with `plan` at the current time. The plan's state at its own
     /// `t0` is extrapolated to now. In a plane world only x and y are used.
     pub fn add_ball(&mut self, radius: Real, plan: FlightPlan) -> Result<ObjectId, WorldError> {
-        let object = self.bodies.len() as u32;
-        let body = self.check_ball(object, radius, plan)?;
-        self.bodies.push(Some(body));
-        self.live += 1;
-        self.wall_due.push(None);
-        let mut changes = std::mem::take(&mut self.changes);
-        self.structure
-            .insert(object, &self.bodies, self.now, &mut changes);
-        self.apply_changes(&mut changes);
-        self.changes = changes;
-        self.refresh_walls(object);
-        Ok(ObjectId(object))
+        Ok(self.add_balls([(radius, plan)])?[0])
     }
 
     /// Adds balls `(radius, plan)` together at the current time, so that the structure can
