@@ -3,8 +3,10 @@
 
 use crate::scene::{Scene, ShapeSpec};
 use kinetic_core::{
-    BruteForce, CandidateStructure, ContactEvent, ContactKind, Stats, World, WorldError, WorldKind,
+    BruteForce, CandidateStructure, ContactEvent, ContactKind, Shape, Stats, World, WorldError,
+    WorldKind,
 };
+use kinetic_flight::{ConvexShape, Sweep};
 use kinetic_rolling::{ListLayout, RollingTree};
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -97,12 +99,12 @@ pub struct RunOutput {
 }
 
 /// The structure a scene gets when none is named: the lightest one that is exact for it.
-/// A plane world gets the rolling collision tree; free worlds get the brute force until the
-/// free-flight module lands.
+/// A plane world gets the rolling collision tree; a free world gets the sweep over boxes
+/// (exact for any sizes; the guards for scenes of very different sizes are not built yet).
 pub fn choose_structure(scene: &Scene) -> StructureName {
     match scene.world {
         WorldKind::Plane => StructureName::RollingTree,
-        WorldKind::Free => StructureName::BruteForce,
+        WorldKind::Free => StructureName::Sweep,
     }
 }
 
@@ -130,6 +132,7 @@ fn make_structure(
                 name.as_str()
             )))
         }
+        StructureName::Sweep => Ok(Box::new(Sweep::new())),
         _ => Err(RunError::Input(format!(
             "--structure {}: not supported yet (use brute-force)",
             name.as_str()
@@ -143,14 +146,19 @@ pub fn build_world(
     structure: Option<StructureName>,
 ) -> Result<(World, StructureName), RunError> {
     let name = structure.unwrap_or_else(|| choose_structure(scene));
-    let mut radii = Vec::with_capacity(scene.objects.len());
+    let mut shapes = Vec::with_capacity(scene.objects.len());
     for (i, o) in scene.objects.iter().enumerate() {
-        let ShapeSpec::Ball { radius } = o.shape else {
-            return Err(RunError::Input(format!(
-                "objects[{i}].shape: cuboids and convex hulls are not supported yet (they come with the free-flight module)"
-            )));
-        };
-        radii.push(radius);
+        shapes.push(match &o.shape {
+            ShapeSpec::Ball { radius } => Shape::Ball { radius: *radius },
+            ShapeSpec::Cuboid { half_extents } => ConvexShape::cuboid(*half_extents)
+                .map_err(|e| RunError::Input(format!("objects[{i}].shape.cuboid: {e}")))?
+                .into_shape(),
+            ShapeSpec::ConvexHull { points } => ConvexShape::convex_hull(points)
+                .map_err(|e| {
+                    RunError::Input(format!("objects[{i}].shape.convex_hull.points: {e}"))
+                })?
+                .into_shape(),
+        });
     }
     let mut world = World::with_structure(
         scene.world,
@@ -160,8 +168,8 @@ pub fn build_world(
     )
     .map_err(|e| RunError::Input(format!("walls: {e}")))?;
     world
-        .add_balls(
-            radii
+        .add_objects(
+            shapes
                 .into_iter()
                 .zip(scene.objects.iter().map(|o| o.plan())),
         )

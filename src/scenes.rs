@@ -150,3 +150,160 @@ impl BallScene {
         }
     }
 }
+
+/// Which shapes a free-flight scene holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShapeMix {
+    /// Balls only.
+    Balls,
+    /// Cuboids only.
+    Cuboids,
+    /// Convex hulls only.
+    Hulls,
+    /// Balls, cuboids and hulls in turn.
+    Mixed,
+}
+
+/// Parameters of a random scene of convex objects flying freely through each other.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FlightScene {
+    /// Number of objects.
+    pub n: usize,
+    /// Smallest inner radius.
+    pub r_min: f64,
+    /// Scale factor: largest over smallest inner radius (sizes log-uniform between).
+    pub sigma: f64,
+    /// The shapes.
+    pub shapes: ShapeMix,
+    /// Largest initial speed.
+    pub speed: f64,
+    /// Largest angular speed (0 for no spin).
+    pub spin: f64,
+    /// Constant acceleration magnitude (0 for linear motion), random direction per object.
+    pub acceleration: f64,
+    /// Fraction of the start cube's volume that the outer balls fill; sets its side.
+    pub fill: f64,
+    /// The horizon.
+    pub horizon: f64,
+    /// The random seed.
+    pub seed: u64,
+}
+
+impl FlightScene {
+    /// An asteroid field: `n` mixed objects whose sizes span a factor `sigma`, spinning, with
+    /// linear motion and no response.
+    pub fn asteroids(n: usize, sigma: f64, seed: u64) -> FlightScene {
+        FlightScene {
+            n,
+            r_min: 0.5,
+            sigma,
+            shapes: ShapeMix::Mixed,
+            speed: 1.0,
+            spin: 1.0,
+            acceleration: 0.0,
+            fill: 0.05,
+            horizon: 10.0,
+            seed,
+        }
+    }
+
+    /// The scene itself.
+    pub fn build(&self) -> Scene {
+        use crate::scene::ShapeSpec;
+        let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+        let (ln_lo, ln_hi) = (self.r_min.ln(), (self.r_min * self.sigma).ln());
+        let mut shapes = Vec::with_capacity(self.n);
+        let mut volume = 0.0;
+        for i in 0..self.n {
+            let r = if ln_hi > ln_lo {
+                rng.random_range(ln_lo..ln_hi).exp()
+            } else {
+                self.r_min
+            };
+            let kind = match self.shapes {
+                ShapeMix::Balls => 0,
+                ShapeMix::Cuboids => 1,
+                ShapeMix::Hulls => 2,
+                ShapeMix::Mixed => i % 3,
+            };
+            let shape = match kind {
+                0 => ShapeSpec::Ball { radius: r },
+                // Inner radius r (the smallest half extent), fatness at most 3.
+                1 => ShapeSpec::Cuboid {
+                    half_extents: DVec3::new(
+                        r,
+                        r * rng.random_range(1.0..2.0),
+                        r * rng.random_range(1.0..2.0),
+                    ),
+                },
+                // The six axis points at distances from r to 1.5 r hold a ball of radius
+                // r / sqrt 3 about the origin; six more random points make it irregular.
+                _ => {
+                    let mut points = Vec::with_capacity(12);
+                    for k in 0..3 {
+                        for s in [-1.0, 1.0] {
+                            let mut p = DVec3::ZERO;
+                            p[k] = s * r * rng.random_range(1.0..1.5);
+                            points.push(p);
+                        }
+                    }
+                    for _ in 0..6 {
+                        let d = DVec3::new(
+                            rng.random_range(-1.0..1.0),
+                            rng.random_range(-1.0..1.0),
+                            rng.random_range(-1.0..1.0),
+                        );
+                        points.push(d.normalize_or(DVec3::X) * r * rng.random_range(1.0..1.5));
+                    }
+                    ShapeSpec::ConvexHull { points }
+                }
+            };
+            let outer = crate::scene::outer_radius(&shape);
+            volume += 4.0 / 3.0 * std::f64::consts::PI * outer.powi(3);
+            shapes.push(shape);
+        }
+        let side = (volume / self.fill).cbrt();
+        let unit = |rng: &mut ChaCha8Rng| {
+            DVec3::new(
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+            )
+            .normalize_or_zero()
+        };
+        let objects = shapes
+            .into_iter()
+            .map(|shape| {
+                let position = DVec3::new(
+                    rng.random_range(0.0..side),
+                    rng.random_range(0.0..side),
+                    rng.random_range(0.0..side),
+                );
+                let velocity = unit(&mut rng) * self.speed * rng.random_range(0.0..1.0f64).sqrt();
+                let acceleration = unit(&mut rng) * self.acceleration;
+                let angular_velocity = unit(&mut rng) * self.spin * rng.random_range(0.0..1.0);
+                let axis = unit(&mut rng);
+                let orientation = if axis == DVec3::ZERO {
+                    glam::DQuat::IDENTITY
+                } else {
+                    glam::DQuat::from_axis_angle(axis, rng.random_range(0.0..std::f64::consts::TAU))
+                };
+                SceneObject {
+                    shape,
+                    position,
+                    velocity,
+                    acceleration,
+                    orientation,
+                    angular_velocity,
+                }
+            })
+            .collect();
+        Scene {
+            world: WorldKind::Free,
+            horizon: self.horizon,
+            response: Response::None,
+            walls: None,
+            objects,
+        }
+    }
+}

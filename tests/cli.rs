@@ -73,13 +73,58 @@ fn small_scene_gives_the_exact_log() {
 ";
     assert_eq!(events.unwrap(), want);
     let stats: serde_json::Value = serde_json::from_str(&stats.unwrap()).unwrap();
-    assert_eq!(stats["structure"], "brute-force");
+    // A free world of similar sizes gets the sweep.
+    assert_eq!(stats["structure"], "sweep");
     assert_eq!(stats["objects"], 4);
     assert_eq!(stats["contacts"]["begin"], 4);
     assert_eq!(stats["contacts"]["end"], 3);
+    assert!(stats["candidate_pairs"]["max"].as_u64().unwrap() < 6);
+    // The brute force writes the same bytes, with every pair a candidate.
+    let (status, err, brute, stats) = run(&dir, &scene, &["--structure", "brute-force"]);
+    assert_eq!(status, 0, "{err}");
+    assert_eq!(brute.unwrap(), want);
+    let stats: serde_json::Value = serde_json::from_str(&stats.unwrap()).unwrap();
+    assert_eq!(stats["structure"], "brute-force");
     assert_eq!(stats["candidate_pairs"]["max"], 6);
     assert!(stats["events"]["total"].as_u64().unwrap() >= 4);
     assert!(stats["wall_seconds"].as_f64().unwrap() >= 0.0);
+}
+
+#[test]
+fn cuboids_and_hulls_in_a_free_world() {
+    let dir = temp_dir("shapes");
+    // A unit cube at rest; a tetrahedron falling onto it vertex first (its lowest vertex 1
+    // below its origin), a ball flying through it along x, and a spinning cuboid far away.
+    let scene = scene_with(
+        r#""world": "free", "horizon": 10.0"#,
+        &[
+            r#"{"shape": {"cuboid": {"half_extents": [1, 1, 1]}}, "position": [0, 0, 0]}"#,
+            r#"{"shape": {"convex_hull": {"points": [[0, 0, -1], [1, 0, 0.5], [-0.5, 0.8, 0.5], [-0.5, -0.8, 0.5]]}},
+                "position": [0.2, 0.1, 7], "velocity": [0, 0, -2]}"#,
+            r#"{"shape": {"ball": {"radius": 0.5}}, "position": [-9, 0.3, 0], "velocity": [2, 0, 0]}"#,
+            r#"{"shape": {"cuboid": {"half_extents": [0.5, 2, 0.5]}}, "position": [100, 0, 0],
+                "orientation": [0, 0, 0.3826834323650898, 0.9238795325112867], "angular_velocity": [0, 0, 3]}"#,
+        ],
+    );
+    for structure in ["sweep", "brute-force"] {
+        let (status, err, events, stats) = run(&dir, &scene, &["--structure", structure]);
+        assert_eq!(status, 0, "{err}");
+        // The tetrahedron's vertex reaches the cube's top (z = 1) at t = 2.5 and its top face
+        // (z = 0.5 above the origin) leaves the cube's bottom (z = -1) at t = 4.25; the ball
+        // touches x = -1 at t = 3.75 and leaves x = 1 at 5.25.
+        assert_eq!(
+            events.unwrap(),
+            "\
+{\"t\": 2.5000000000, \"a\": 0, \"b\": 1, \"kind\": \"begin\"}
+{\"t\": 3.7500000000, \"a\": 0, \"b\": 2, \"kind\": \"begin\"}
+{\"t\": 4.2500000000, \"a\": 0, \"b\": 1, \"kind\": \"end\"}
+{\"t\": 5.2500000000, \"a\": 0, \"b\": 2, \"kind\": \"end\"}
+",
+            "{structure}"
+        );
+        let stats: serde_json::Value = serde_json::from_str(&stats.unwrap()).unwrap();
+        assert_eq!(stats["structure"], structure);
+    }
 }
 
 #[test]
@@ -298,13 +343,6 @@ fn every_error_case_names_the_field_and_writes_nothing() {
                 &[r#"{"shape": {"ball": {"radius": 1}}, "position": [5, 5, 9.5]}"#],
             ),
             "objects[0].position[2]: the ball (radius 1) starts outside the walls",
-        ),
-        (
-            scene_with(
-                free,
-                &[r#"{"shape": {"cuboid": {"half_extents": [1, 1, 1]}}, "position": [0, 0, 0]}"#],
-            ),
-            "objects[0].shape: cuboids and convex hulls are not supported yet",
         ),
     ];
     let dir = temp_dir("errors");

@@ -22,6 +22,7 @@
 
 mod brute_force;
 pub mod certificates;
+pub mod geometry;
 mod math;
 mod plan;
 mod poly;
@@ -33,6 +34,7 @@ mod world;
 
 pub use brute_force::BruteForce;
 pub use certificates::{OrderCertificate, ScalarKey};
+pub use geometry::{ConvexGeometry, Pose};
 pub use math::{Quat, Real, Vec3};
 pub use plan::FlightPlan;
 pub use poly::{Poly, sign};

@@ -325,7 +325,7 @@ fn plan_change_and_removal_mid_run() {
     );
     w.remove(b).unwrap();
     assert_eq!(w.candidate_pairs(), 0);
-    assert_eq!(w.remove(b), Err(WorldError::UnknownObject(1)));
+    assert_eq!(w.remove(b).err(), Some(WorldError::UnknownObject(1)));
     let c = w
         .add_ball(
             1.0,

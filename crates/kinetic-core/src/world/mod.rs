@@ -10,12 +10,14 @@ mod validate;
 mod walls;
 
 use crate::brute_force::BruteForce;
+use crate::geometry::ConvexGeometry;
 use crate::math::{Real, Vec3};
 use crate::plan::FlightPlan;
 use crate::queue::EventQueue;
 use crate::structure::{CandidateStructure, PairChange};
 pub use pairs::PairCertificate;
 use std::collections::BTreeMap;
+use std::sync::Arc;
 
 /// Where objects move.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -46,28 +48,57 @@ pub struct Walls {
     pub max: Vec3,
 }
 
-/// The shape of an object. The core knows balls; other shapes come with their modules.
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[non_exhaustive]
+/// The shape of an object. The core knows balls; other convex shapes come with their modules
+/// (the free-flight module's cuboids and convex hulls) through [`ConvexGeometry`].
+#[derive(Clone, Debug)]
 pub enum Shape {
     /// A ball of the given radius.
     Ball {
         /// Its radius.
         radius: Real,
     },
+    /// Any other convex shape.
+    Convex(Arc<dyn ConvexGeometry>),
 }
 
 impl Shape {
     /// The radius of the smallest ball around the centre that holds the shape.
+    #[inline]
     pub fn outer_radius(&self) -> Real {
-        match *self {
-            Shape::Ball { radius } => radius,
+        match self {
+            Shape::Ball { radius } => *radius,
+            Shape::Convex(g) => g.outer_radius(),
+        }
+    }
+
+    /// The radius of the largest ball around the centre inside the shape.
+    pub fn inner_radius(&self) -> Real {
+        match self {
+            Shape::Ball { radius } => *radius,
+            Shape::Convex(g) => g.inner_radius(),
+        }
+    }
+
+    /// The ball's radius, if the shape is a ball.
+    #[inline]
+    pub fn ball_radius(&self) -> Option<Real> {
+        match self {
+            Shape::Ball { radius } => Some(*radius),
+            Shape::Convex(_) => None,
+        }
+    }
+
+    /// The shape's name in scene files.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Shape::Ball { .. } => "ball",
+            Shape::Convex(g) => g.name(),
         }
     }
 }
 
 /// A live object: its shape and flight plan.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct Body {
     /// Its shape.
     pub shape: Shape,
@@ -104,6 +135,15 @@ pub struct ContactEvent {
 /// Bad input to the world, or a run that cannot go on.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum WorldError {
+    /// A shape the world cannot hold: a non-ball in a plane world or under the elastic
+    /// response.
+    #[error("object {object}: {why}")]
+    UnsupportedShape {
+        /// The object (the id it would have had).
+        object: u32,
+        /// Why.
+        why: &'static str,
+    },
     /// A size is not finite and positive.
     #[error("object {object}: radius must be finite and > 0, got {value}")]
     InvalidRadius {
@@ -343,10 +383,28 @@ impl World {
         &mut self,
         balls: impl IntoIterator<Item = (Real, FlightPlan)>,
     ) -> Result<Vec<ObjectId>, WorldError> {
+        self.add_objects(
+            balls
+                .into_iter()
+                .map(|(radius, plan)| (Shape::Ball { radius }, plan)),
+        )
+    }
+
+    /// Adds an object of any shape with `plan` at the current time.
+    pub fn add_object(&mut self, shape: Shape, plan: FlightPlan) -> Result<ObjectId, WorldError> {
+        Ok(self.add_objects([(shape, plan)])?[0])
+    }
+
+    /// Adds objects `(shape, plan)` together at the current time, so that the structure can
+    /// build in bulk. Nothing is added if any object is invalid.
+    pub fn add_objects(
+        &mut self,
+        objects: impl IntoIterator<Item = (Shape, FlightPlan)>,
+    ) -> Result<Vec<ObjectId>, WorldError> {
         let first = self.bodies.len() as u32;
         let mut new = Vec::new();
-        for (k, (radius, plan)) in balls.into_iter().enumerate() {
-            new.push(self.check_ball(first + k as u32, radius, plan)?);
+        for (k, (shape, plan)) in objects.into_iter().enumerate() {
+            new.push(self.check_object(first + k as u32, shape, plan)?);
         }
         let ids: Vec<u32> = (first..first + new.len() as u32).collect();
         self.live += new.len();
@@ -365,16 +423,32 @@ impl World {
         Ok(ids.into_iter().map(ObjectId).collect())
     }
 
-    /// A valid ball body for id `object`, or why not.
-    fn check_ball(&self, object: u32, radius: Real, plan: FlightPlan) -> Result<Body, WorldError> {
+    /// A valid body for id `object`, or why not.
+    fn check_object(
+        &self,
+        object: u32,
+        shape: Shape,
+        plan: FlightPlan,
+    ) -> Result<Body, WorldError> {
+        let radius = shape.outer_radius();
         if !(radius.is_finite() && radius > 0.0) {
             return Err(WorldError::InvalidRadius {
                 object,
                 value: radius,
             });
         }
+        if let Shape::Convex(_) = shape {
+            let why = match (self.kind, self.response) {
+                (WorldKind::Plane, _) => Some("a plane world holds balls only"),
+                (_, Response::Elastic) => Some("the elastic response applies to balls only"),
+                _ => None,
+            };
+            if let Some(why) = why {
+                return Err(WorldError::UnsupportedShape { object, why });
+            }
+        }
         let body = Body {
-            shape: Shape::Ball { radius },
+            shape,
             plan: self.flatten(plan, object)?,
         };
         if let Some(w) = self.walls.filter(|_| self.response == Response::Elastic) {
@@ -389,7 +463,10 @@ impl World {
 
     /// Removes an object; its pairs go without events (a contact it was in is not ended).
     pub fn remove(&mut self, id: ObjectId) -> Result<Body, WorldError> {
-        let body = *self.body(id).ok_or(WorldError::UnknownObject(id.0))?;
+        let body = self
+            .body(id)
+            .cloned()
+            .ok_or(WorldError::UnknownObject(id.0))?;
         // Its pairs go silently: not as contacts that end.
         for slot in self.pairs.slots_of(id.0) {
             self.pairs.get_mut(slot).touching = false;

@@ -1,12 +1,18 @@
-//! Pair certificates: one `ball_ball_disjoint` certificate per candidate pair, with the
-//! contact state machine of the scene format.
+//! Pair certificates: one disjointness certificate per candidate pair, with the contact state
+//! machine of the scene format.
 //!
-//! Each certificate caches the roots of its polynomial from the moment it was made and walks
-//! them in order (CGAL style): the next event after a begin is found among the same roots, so
-//! a root that rounding put a hair early or late never fires twice.
+//! Two balls: a `ball_ball_disjoint` certificate. It caches the roots of its polynomial from
+//! the moment it was made and walks them in order (CGAL style): the next event after a begin
+//! is found among the same roots, so a root that rounding put a hair early or late never fires
+//! twice.
+//!
+//! A pair with another shape: a [`ShapeWalk`]. The outer balls' polynomial walk gives the
+//! windows in which the shapes can touch at all; inside a window the contact search of
+//! [`crate::geometry`] finds the flips.
 
 use super::{ContactEvent, ContactKind, ObjectId, Response, World, WorldKind};
 use crate::certificates::ball_ball_gap;
+use crate::geometry::{Found, Mover, search};
 use crate::math::Real;
 use crate::poly::Poly;
 use crate::roots::{Root, Roots, roots_after_zero};
@@ -33,6 +39,8 @@ pub(crate) enum Due {
     End,
     /// The objects touch at one instant without overlapping: begin and end together.
     Graze,
+    /// Nothing to report: the certificate is renewed (a shape pair's search window moves on).
+    Recheck,
 }
 
 /// The cached roots of a gap polynomial `f` (and, for the elastic response, of `f'`) made at
@@ -191,13 +199,132 @@ pub struct PairCertificate {
     refs: u32,
     /// In contact (no response only).
     pub touching: bool,
-    pub(crate) walk: Walk,
+    pub(crate) walk: PairWalk,
 }
 
 impl PairCertificate {
     /// When this certificate fails next (+infinity for never).
     pub fn due_time(&self) -> Real {
-        self.walk.due.map_or(Real::INFINITY, |d| d.0)
+        self.walk.due().map_or(Real::INFINITY, |d| d.0)
+    }
+}
+
+/// How a pair's next event is found: polynomial roots (two balls) or a shape walk.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum PairWalk {
+    Balls(Walk),
+    Shapes(ShapeWalk),
+}
+
+impl PairWalk {
+    /// The next event: its time and what it is.
+    pub(crate) fn due(&self) -> Option<(Real, Due)> {
+        match self {
+            PairWalk::Balls(w) => w.due.map(|(t, _, d)| (t, d)),
+            PairWalk::Shapes(w) => w.due(),
+        }
+    }
+}
+
+/// Why a shape walk stops next.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Stop {
+    /// The shapes' state flips (they start or stop to overlap).
+    Flip,
+    /// The outer balls start to overlap: a search window opens.
+    Opens,
+    /// The outer balls come apart: the window closes.
+    Closes,
+    /// The search used its step budget: it goes on from here.
+    Budget,
+}
+
+/// The walk of a pair that holds a shape other than a ball.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ShapeWalk {
+    /// The outer balls' contact walk: its begins and ends open and close search windows.
+    outer: Walk,
+    /// A window is open (the outer balls overlap) at `from`.
+    open: bool,
+    /// The shapes overlap or touch at `from`.
+    inside: bool,
+    /// Where the next search starts.
+    from: Real,
+    stop: Option<(Real, Stop)>,
+}
+
+impl ShapeWalk {
+    /// The walk from `now`, with the shapes in state `inside` (overlapping or touching) now.
+    pub(crate) fn new(m: &Mover, outer: &Poly, now: Real, inside: bool) -> ShapeWalk {
+        let open = outer.c[0] < 0.0 || (outer.c[0] == 0.0 && outer.sign_just_after_zero() <= 0);
+        let mut w = ShapeWalk {
+            outer: Walk::contact(outer, now, now, open),
+            open,
+            inside,
+            from: now,
+            stop: None,
+        };
+        w.plan(m);
+        w
+    }
+
+    fn due(&self) -> Option<(Real, Due)> {
+        let (t, stop) = self.stop?;
+        let due = match (stop, self.inside) {
+            (Stop::Flip, false) => Due::Begin,
+            // Rounding may leave the search short of the end of an overlap that the outer
+            // balls prove over: the contact ends when they come apart at the latest.
+            (Stop::Flip | Stop::Closes, true) => Due::End,
+            _ => Due::Recheck,
+        };
+        Some((t, due))
+    }
+
+    /// Finds the next stop from `from`.
+    fn plan(&mut self, m: &Mover) {
+        loop {
+            if !self.open {
+                self.stop = match self.outer.due {
+                    Some((t, _, Due::Begin)) => Some((t, Stop::Opens)),
+                    Some((_, _, Due::Graze)) => {
+                        // The outer balls only touch: the shapes cannot overlap.
+                        self.outer.consume(Response::None);
+                        continue;
+                    }
+                    _ => None,
+                };
+                return;
+            }
+            let until = match self.outer.due {
+                Some((t, _, Due::End)) => t,
+                _ => Real::INFINITY,
+            };
+            self.stop = match search(m, self.from, until, self.inside) {
+                Found::Flip(t) => Some((t, Stop::Flip)),
+                Found::Budget(t) => Some((t, Stop::Budget)),
+                Found::None if until.is_finite() => Some((until, Stop::Closes)),
+                Found::None => None,
+            };
+            return;
+        }
+    }
+
+    /// Steps past the stop that was due (its event processed) and finds the next.
+    pub(crate) fn consume(&mut self, m: &Mover) {
+        let Some((t, stop)) = self.stop else {
+            return;
+        };
+        self.from = t;
+        match stop {
+            Stop::Flip => self.inside = !self.inside,
+            Stop::Budget => {}
+            Stop::Opens | Stop::Closes => {
+                self.outer.consume(Response::None);
+                self.open = stop == Stop::Opens;
+                self.inside = false;
+            }
+        }
+        self.plan(m);
     }
 }
 
@@ -338,24 +465,77 @@ impl World {
         }
     }
 
+    /// Whether both objects are balls (their pair has a polynomial certificate).
+    fn balls(&self, a: u32, b: u32) -> bool {
+        let ball = |id: u32| {
+            self.bodies[id as usize]
+                .as_ref()
+                .is_some_and(|b| b.shape.ball_radius().is_some())
+        };
+        ball(a) && ball(b)
+    }
+
+    /// The pair as a mover for the contact search.
+    fn mover(&self, a: u32, b: u32) -> Mover<'_> {
+        let (ba, bb) = (
+            self.bodies[a as usize].as_ref().expect("live object"),
+            self.bodies[b as usize].as_ref().expect("live object"),
+        );
+        Mover {
+            shape_a: &ba.shape,
+            plan_a: &ba.plan,
+            shape_b: &bb.shape,
+            plan_b: &bb.plan,
+        }
+    }
+
+    /// The gap of the pair's outer balls around now, a hair inflated: the windows in which a
+    /// shape pair can touch.
+    fn outer_gap(&self, a: u32, b: u32) -> Poly {
+        let r = (self.radius(a) + self.radius(b)) * (1.0 + 1e-9);
+        ball_ball_gap(
+            &self.plan_of(a).local_coefficients(self.now),
+            &self.plan_of(b).local_coefficients(self.now),
+            r * r,
+        )
+    }
+
+    /// Whether the pair overlaps (or touches) now and just after: its contact state.
+    fn touching_now(&self, a: u32, b: u32) -> bool {
+        if self.balls(a, b) {
+            self.gap(a, b).sign_just_after_zero() <= 0
+        } else {
+            self.mover(a, b).signed_distance(self.now) <= 0.0
+        }
+    }
+
+    /// A number that is negative when the pair overlaps now, positive when apart (for balls
+    /// the gap polynomial's value, for shapes the signed distance), and the slack within which
+    /// the audit lets rounding disagree with a pair's state.
+    pub(crate) fn separation(&self, a: u32, b: u32) -> (Real, Real) {
+        let scale = self.radius(a).max(self.radius(b));
+        if self.balls(a, b) {
+            (self.gap(a, b).c[0], 1e-9 * scale * scale)
+        } else {
+            (self.mover(a, b).signed_distance(self.now), 1e-9 * scale)
+        }
+    }
+
+    /// A shape pair's walk from now, in state `touching` now.
+    fn shape_walk(&self, a: u32, b: u32, touching: bool) -> ShapeWalk {
+        ShapeWalk::new(&self.mover(a, b), &self.outer_gap(a, b), self.now, touching)
+    }
+
     /// A new candidate pair: its state now decides the events reported at once.
     fn new_pair(&mut self, a: u32, b: u32, refs: u32) {
-        let f = self.gap(a, b);
-        let (base, fb) = self.canonical_gap(a, b);
-        let touching_now = f.c[0] <= 0.0;
-        let after = f.sign_just_after_zero();
-        let (walk, touching) = match self.response {
-            Response::None => {
-                if touching_now {
-                    self.log(a, b, ContactKind::Begin);
-                    if after > 0 {
-                        self.log(a, b, ContactKind::End);
-                    }
-                }
-                let touching = touching_now && after <= 0;
-                (Walk::contact(&fb, base, self.now, touching), touching)
+        let (walk, touching) = if self.balls(a, b) {
+            self.new_ball_walk(a, b)
+        } else {
+            let touching = self.touching_now(a, b);
+            if touching && self.response == Response::None {
+                self.log(a, b, ContactKind::Begin);
             }
-            Response::Elastic => (Walk::elastic(&fb, base, self.now, &f), false),
+            (PairWalk::Shapes(self.shape_walk(a, b, touching)), touching)
         };
         let slot = self.pairs.insert(PairCertificate {
             a,
@@ -367,27 +547,72 @@ impl World {
         self.schedule_pair(slot);
     }
 
+    fn new_ball_walk(&mut self, a: u32, b: u32) -> (PairWalk, bool) {
+        let f = self.gap(a, b);
+        let (base, fb) = self.canonical_gap(a, b);
+        let touching_now = f.c[0] <= 0.0;
+        let after = f.sign_just_after_zero();
+        match self.response {
+            Response::None => {
+                if touching_now {
+                    self.log(a, b, ContactKind::Begin);
+                    if after > 0 {
+                        self.log(a, b, ContactKind::End);
+                    }
+                }
+                let touching = touching_now && after <= 0;
+                let walk = Walk::contact(&fb, base, self.now, touching);
+                (PairWalk::Balls(walk), touching)
+            }
+            Response::Elastic => (
+                PairWalk::Balls(Walk::elastic(&fb, base, self.now, &f)),
+                false,
+            ),
+        }
+    }
+
     /// Recomputes a pair's certificate after one of its objects changed plan.
     pub(crate) fn refresh_pair(&mut self, slot: u32) {
         let (a, b) = {
             let c = self.pairs.get(slot);
             (c.a, c.b)
         };
-        let f = self.gap(a, b);
-        let (base, fb) = self.canonical_gap(a, b);
-        let walk = match self.response {
-            Response::None => {
-                let was = self.pairs.get(slot).touching;
-                let now_touching = f.sign_just_after_zero() <= 0;
-                match (was, now_touching) {
-                    (true, false) => self.log(a, b, ContactKind::End),
-                    (false, true) => self.log(a, b, ContactKind::Begin),
-                    _ => {}
-                }
-                self.pairs.get_mut(slot).touching = now_touching;
-                Walk::contact(&fb, base, self.now, now_touching)
+        let walk = if self.balls(a, b) && self.response == Response::Elastic {
+            let f = self.gap(a, b);
+            let (base, fb) = self.canonical_gap(a, b);
+            PairWalk::Balls(Walk::elastic(&fb, base, self.now, &f))
+        } else {
+            let was = self.pairs.get(slot).touching;
+            let now_touching = self.touching_now(a, b);
+            match (was, now_touching) {
+                (true, false) => self.log(a, b, ContactKind::End),
+                (false, true) => self.log(a, b, ContactKind::Begin),
+                _ => {}
             }
-            Response::Elastic => Walk::elastic(&fb, base, self.now, &f),
+            self.pairs.get_mut(slot).touching = now_touching;
+            if self.balls(a, b) {
+                let (base, fb) = self.canonical_gap(a, b);
+                PairWalk::Balls(Walk::contact(&fb, base, self.now, now_touching))
+            } else {
+                PairWalk::Shapes(self.shape_walk(a, b, now_touching))
+            }
+        };
+        self.pairs.get_mut(slot).walk = walk;
+        self.schedule_pair(slot);
+    }
+
+    /// Steps a pair's walk past the event that was due.
+    pub(crate) fn consume_pair(&mut self, slot: u32) {
+        let cert = *self.pairs.get(slot);
+        let walk = match cert.walk {
+            PairWalk::Balls(mut w) => {
+                w.consume(self.response);
+                PairWalk::Balls(w)
+            }
+            PairWalk::Shapes(mut w) => {
+                w.consume(&self.mover(cert.a, cert.b));
+                PairWalk::Shapes(w)
+            }
         };
         self.pairs.get_mut(slot).walk = walk;
         self.schedule_pair(slot);
@@ -395,8 +620,8 @@ impl World {
 
     pub(crate) fn schedule_pair(&mut self, slot: u32) {
         let c = self.pairs.get(slot);
-        match c.walk.due {
-            Some((t, _, _)) => self.pair_queue.schedule(slot, t, pair_key(c.a, c.b)),
+        match c.walk.due() {
+            Some((t, _)) => self.pair_queue.schedule(slot, t, pair_key(c.a, c.b)),
             None => {
                 self.pair_queue.remove(slot);
             }

@@ -117,10 +117,11 @@ impl World {
     fn fire_pair(&mut self, slot: u32) -> (u32, u32) {
         let cert = *self.pairs.get(slot);
         let (a, b) = (cert.a, cert.b);
-        let Some((_, _, due)) = cert.walk.due else {
+        let Some((_, due)) = cert.walk.due() else {
             return (a, b);
         };
         match (self.response, due) {
+            (_, Due::Recheck) => {}
             (Response::None, Due::Begin) => {
                 self.log(a, b, ContactKind::Begin);
                 self.pairs.get_mut(slot).touching = true;
@@ -142,8 +143,7 @@ impl World {
                 }
             }
         }
-        self.pairs.get_mut(slot).walk.consume(self.response);
-        self.schedule_pair(slot);
+        self.consume_pair(slot);
         (a, b)
     }
 

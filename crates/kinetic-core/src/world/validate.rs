@@ -27,9 +27,7 @@ impl World {
                 ));
             }
             if self.response == Response::None {
-                let f0 = self.gap(cert.a, cert.b).c[0];
-                let scale = self.radius(cert.a).max(self.radius(cert.b));
-                let slack = 1e-9 * scale * scale;
+                let (f0, slack) = self.separation(cert.a, cert.b);
                 if cert.touching && f0 > slack && due > self.now {
                     return Err(format!(
                         "pair ({}, {}) marked touching but apart (gap {f0})",
@@ -59,7 +57,7 @@ impl World {
         for &(lo, hi, b) in &spans {
             open.retain(|&(h, _)| h >= lo);
             for &(_, a) in &open {
-                if self.pairs.find(a, b).is_none() && self.gap(a.min(b), a.max(b)).c[0] < 0.0 {
+                if self.pairs.find(a, b).is_none() && self.separation(a.min(b), a.max(b)).0 < 0.0 {
                     return Err(format!(
                         "objects {} and {} overlap but are not a candidate pair",
                         a.min(b),

@@ -20,7 +20,7 @@ impl World {
         let Some(walls) = self.walls.filter(|_| self.response == Response::Elastic) else {
             return;
         };
-        let Some(body) = self.bodies[id as usize] else {
+        let Some(body) = self.bodies[id as usize].as_ref() else {
             return;
         };
         let centre = body.plan.local_coefficients(self.now);
@@ -55,7 +55,7 @@ impl World {
         let Some(hit) = self.wall_due[id as usize] else {
             return;
         };
-        let plan = self.bodies[id as usize].expect("live object").plan;
+        let plan = self.plan_of(id);
         let mut v = plan.velocity_at(self.now);
         // Only a ball moving into the wall turns; rounding cannot make it turn twice.
         if (hit.upper && v[hit.axis] > 0.0) || (!hit.upper && v[hit.axis] < 0.0) {

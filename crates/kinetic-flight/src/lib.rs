@@ -1,0 +1,39 @@
+//! # kinetic-flight
+//!
+//! The kinetic data structures of Section 3 of "Kinetic Collision Detection for Convex Fat
+//! Objects" for convex fat objects flying freely in 3-space: balls, cuboids and convex hulls
+//! (parry for the geometry), moving on polynomial flight plans and spinning at constant
+//! angular velocity.
+//!
+//! - [`ConvexShape`]: cuboids and convex hulls with their centre, inner ball B-, outer ball B+
+//!   and fatness; the core measures their signed distance through it and finds contact times
+//!   by conservative advancement (see `kinetic_core::geometry`).
+//! - [`Sweep`] (Section 3.1, Theorem 6): three kinetic sorted lists of the endpoints of the
+//!   boxes of the outer balls; every pair of overlapping boxes is a candidate pair. O(n) size
+//!   for objects of similar sizes.
+//!
+//! ```
+//! use kinetic_core::{ContactKind, FlightPlan, Response, Vec3, World, WorldKind};
+//! use kinetic_flight::{ConvexShape, Sweep};
+//!
+//! let mut world =
+//!     World::with_structure(WorldKind::Free, Response::None, None, Box::new(Sweep::new()))
+//!         .unwrap();
+//! // A unit cube at rest, and a ball of radius 0.5 flying at it along x.
+//! let cube = ConvexShape::cuboid(Vec3::splat(0.5)).unwrap().into_shape();
+//! world.add_object(cube, FlightPlan::at_rest(Vec3::ZERO)).unwrap();
+//! world.add_ball(0.5, FlightPlan::linear(Vec3::new(-4.0, 0.0, 0.0), Vec3::X)).unwrap();
+//! world.advance_to(10.0).unwrap();
+//! let events = world.drain_events();
+//! assert_eq!(events[0].kind, ContactKind::Begin);
+//! assert!((events[0].time - 3.0).abs() < 1e-9);
+//! assert!((events[1].time - 5.0).abs() < 1e-9);
+//! ```
+#![warn(missing_docs)]
+#![forbid(unsafe_code)]
+
+mod shape;
+mod sweep;
+
+pub use shape::{ConvexShape, ShapeError, fatness};
+pub use sweep::Sweep;

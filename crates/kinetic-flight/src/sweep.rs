@@ -1,0 +1,341 @@
+//! `sweep` (Section 3.1, Theorem 6): three kinetic sorted lists of the endpoints of the boxes
+//! of the objects' outer balls, and the set of box pairs that overlap, each a candidate pair.
+//!
+//! Item `2 id` is the lower end of object `id`'s box on that axis, `2 id + 1` its upper end.
+//! Two boxes overlap on an axis when each one's lower end is before the other's upper end in
+//! that axis's list; they overlap when they do on all three. A swap of a lower end with an
+//! upper end of another object is the only way that can change, so the set is kept exactly by
+//! the swaps, and the audit reads it from the same three orders.
+//!
+//! Boxes are those of B+ (centre +/- outer radius), inflated by a relative 1e-9 so that two
+//! objects that touch have boxes that overlap strictly: the pair is a candidate before its
+//! contact begins, even at a tie.
+
+use kinetic_core::{Bodies, CandidateStructure, KineticSortedList, PairChange, Real, ScalarKey};
+use rustc_hash::FxHashSet;
+
+/// Relative inflation of the boxes.
+const INFLATE: Real = 1.0 + 1e-9;
+
+/// The sweep over boxes: candidate pairs are the objects whose outer balls' boxes overlap.
+#[derive(Debug, Default)]
+pub struct Sweep {
+    lists: [KineticSortedList; 3],
+    /// Half side of each object's box (0 for ids not in the structure).
+    half: Vec<Real>,
+    /// The objects whose boxes overlap each object's box.
+    partners: Vec<Vec<u32>>,
+    pairs: usize,
+    now: Real,
+}
+
+fn lower(id: u32) -> u32 {
+    2 * id
+}
+
+fn upper(id: u32) -> u32 {
+    2 * id + 1
+}
+
+fn keys(bodies: &Bodies, id: u32, half: Real) -> [[ScalarKey; 2]; 3] {
+    let plan = &bodies[id as usize].as_ref().expect("a live object").plan;
+    std::array::from_fn(|axis| {
+        [
+            ScalarKey::from_plan(plan, axis, -half),
+            ScalarKey::from_plan(plan, axis, half),
+        ]
+    })
+}
+
+impl Sweep {
+    /// An empty sweep.
+    pub fn new() -> Sweep {
+        Sweep::default()
+    }
+
+    /// Number of overlapping box pairs.
+    pub fn box_pairs(&self) -> usize {
+        self.pairs
+    }
+
+    /// Swaps processed so far, over the three lists.
+    pub fn swaps(&self) -> u64 {
+        self.lists.iter().map(|l| l.swap_count()).sum()
+    }
+
+    fn present(&self, id: u32) -> bool {
+        self.half.get(id as usize).is_some_and(|&h| h > 0.0)
+    }
+
+    /// Whether the boxes of `a` and `b` overlap on `axis`, read from that list's order.
+    fn overlap_on(&self, axis: usize, a: u32, b: u32) -> bool {
+        let l = &self.lists[axis];
+        let p = |item| l.position(item).expect("an item of the list");
+        p(lower(a)) < p(upper(b)) && p(lower(b)) < p(upper(a))
+    }
+
+    fn link(&mut self, a: u32, b: u32, changes: &mut Vec<PairChange>) {
+        self.partners[a as usize].push(b);
+        self.partners[b as usize].push(a);
+        self.pairs += 1;
+        changes.push(PairChange { a, b, delta: 1 });
+    }
+
+    fn unlink(&mut self, a: u32, b: u32, changes: &mut Vec<PairChange>) {
+        for (x, y) in [(a, b), (b, a)] {
+            let list = &mut self.partners[x as usize];
+            let i = list.iter().position(|&p| p == y).expect("a linked pair");
+            list.swap_remove(i);
+        }
+        self.pairs -= 1;
+        changes.push(PairChange { a, b, delta: -1 });
+    }
+
+    /// Brings every list's clock to `now` (every swap before it was processed).
+    fn sync(&mut self, now: Real) {
+        self.now = now;
+        for l in &mut self.lists {
+            l.advance_clock(now)
+                .expect("every swap before now was processed");
+        }
+    }
+
+    fn grow(&mut self, id: u32) {
+        let need = id as usize + 1;
+        if self.half.len() < need {
+            self.half.resize(need, 0.0);
+            self.partners.resize(need, Vec::new());
+        }
+    }
+
+    /// Every overlapping pair among `ids`' boxes and the others, by a sweep along x.
+    fn overlapping_pairs(&self) -> Vec<(u32, u32)> {
+        let mut out = Vec::new();
+        let mut active: Vec<u32> = Vec::new();
+        let mut slot: Vec<u32> = vec![u32::MAX; self.half.len()];
+        for &item in self.lists[0].order() {
+            let id = item / 2;
+            if item % 2 == 0 {
+                for &other in &active {
+                    if self.overlap_on(1, id, other) && self.overlap_on(2, id, other) {
+                        out.push((id.min(other), id.max(other)));
+                    }
+                }
+                slot[id as usize] = active.len() as u32;
+                active.push(id);
+            } else {
+                let i = slot[id as usize] as usize;
+                active.swap_remove(i);
+                if let Some(&moved) = active.get(i) {
+                    slot[moved as usize] = i as u32;
+                }
+            }
+        }
+        out
+    }
+}
+
+impl CandidateStructure for Sweep {
+    fn name(&self) -> &'static str {
+        "sweep"
+    }
+
+    fn insert(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>) {
+        self.sync(now);
+        self.grow(id);
+        let half = bodies[id as usize]
+            .as_ref()
+            .expect("a live object")
+            .shape
+            .outer_radius()
+            * INFLATE;
+        self.half[id as usize] = half;
+        for (axis, [lo, hi]) in keys(bodies, id, half).into_iter().enumerate() {
+            let l = &mut self.lists[axis];
+            l.insert(lower(id), lo).expect("a new item");
+            l.insert(upper(id), hi).expect("a new item");
+        }
+        // The boxes it overlaps: those whose lower x end is before its upper x end and whose
+        // upper x end is after its lower x end.
+        let x = &self.lists[0];
+        let (lo_x, hi_x) = (
+            x.position(lower(id)).expect("inserted"),
+            x.position(upper(id)).expect("inserted"),
+        );
+        let found: Vec<u32> = x.order()[..hi_x]
+            .iter()
+            .filter(|&&item| item % 2 == 0 && item / 2 != id)
+            .map(|&item| item / 2)
+            .filter(|&o| x.position(upper(o)).expect("an item") > lo_x)
+            .filter(|&o| self.overlap_on(1, id, o) && self.overlap_on(2, id, o))
+            .collect();
+        for o in found {
+            self.link(id.min(o), id.max(o), changes);
+        }
+    }
+
+    fn insert_many(
+        &mut self,
+        ids: &[u32],
+        bodies: &Bodies,
+        now: Real,
+        changes: &mut Vec<PairChange>,
+    ) {
+        if self.pairs > 0 || !self.lists[0].is_empty() || ids.len() < 2 {
+            for &id in ids {
+                self.insert(id, bodies, now, changes);
+            }
+            return;
+        }
+        // An empty sweep: build the lists in one go and sweep for the overlapping boxes.
+        self.now = now;
+        let mut items: [Vec<(u32, ScalarKey)>; 3] = Default::default();
+        for &id in ids {
+            self.grow(id);
+            let half = bodies[id as usize]
+                .as_ref()
+                .expect("a live object")
+                .shape
+                .outer_radius()
+                * INFLATE;
+            self.half[id as usize] = half;
+            for (axis, [lo, hi]) in keys(bodies, id, half).into_iter().enumerate() {
+                items[axis].extend([(lower(id), lo), (upper(id), hi)]);
+            }
+        }
+        for (axis, items) in items.into_iter().enumerate() {
+            self.lists[axis] = KineticSortedList::from_items(now, items).expect("valid keys");
+        }
+        for (a, b) in self.overlapping_pairs() {
+            self.link(a, b, changes);
+        }
+    }
+
+    fn remove(&mut self, id: u32, _: &Bodies, now: Real, changes: &mut Vec<PairChange>) {
+        if !self.present(id) {
+            return;
+        }
+        self.sync(now);
+        for o in self.partners[id as usize].clone() {
+            self.unlink(id.min(o), id.max(o), changes);
+        }
+        for l in &mut self.lists {
+            l.remove(lower(id)).expect("an item");
+            l.remove(upper(id)).expect("an item");
+        }
+        self.half[id as usize] = 0.0;
+    }
+
+    fn replan(&mut self, id: u32, bodies: &Bodies, now: Real, _: &mut Vec<PairChange>) {
+        if !self.present(id) {
+            return;
+        }
+        self.sync(now);
+        // An item now out of place (a teleport) fails its certificates at once and moves by
+        // ordinary swaps.
+        for (axis, [lo, hi]) in keys(bodies, id, self.half[id as usize])
+            .into_iter()
+            .enumerate()
+        {
+            let l = &mut self.lists[axis];
+            l.set_key(lower(id), lo).expect("an item");
+            l.set_key(upper(id), hi).expect("an item");
+        }
+    }
+
+    fn next_event_time(&self) -> Real {
+        self.lists
+            .iter()
+            .map(|l| l.next_event_time())
+            .fold(Real::INFINITY, Real::min)
+    }
+
+    fn process_next_event(&mut self, _: &Bodies, changes: &mut Vec<PairChange>) -> &'static str {
+        let (axis, t) = (0..3).map(|k| (k, self.lists[k].next_event_time())).fold(
+            (0, Real::INFINITY),
+            |best, x| if x.1 < best.1 { x } else { best },
+        );
+        let Some(swap) = self.lists[axis].process_next_event(t) else {
+            return "swap";
+        };
+        self.now = self.now.max(swap.time);
+        let (a, b) = (swap.left / 2, swap.right / 2);
+        // An upper end passing a lower end of another box (they meet on this axis) or a lower
+        // end passing an upper end (they part) changes the pair iff the other axes overlap.
+        let meets = (swap.left % 2, swap.right % 2) == (1, 0);
+        let parts = (swap.left % 2, swap.right % 2) == (0, 1);
+        if a != b
+            && (meets || parts)
+            && (0..3)
+                .filter(|&k| k != axis)
+                .all(|k| self.overlap_on(k, a, b))
+        {
+            if meets {
+                self.link(a.min(b), a.max(b), changes);
+            } else {
+                self.unlink(a.min(b), a.max(b), changes);
+            }
+        }
+        "swap"
+    }
+
+    fn certificates(&self) -> usize {
+        self.lists.iter().map(|l| l.certificates()).sum()
+    }
+
+    fn counters(&self) -> Vec<(&'static str, f64)> {
+        vec![("box_pairs", self.pairs as f64)]
+    }
+
+    fn validate(&self, bodies: &Bodies, now: Real) -> Result<(), String> {
+        for (axis, l) in self.lists.iter().enumerate() {
+            l.validate()
+                .map_err(|e| format!("sweep list {axis}: {e}"))?;
+        }
+        for (id, body) in bodies.iter().enumerate() {
+            let id = id as u32;
+            match body {
+                Some(b) if self.present(id) => {
+                    let half = b.shape.outer_radius() * INFLATE;
+                    for (axis, [lo, hi]) in keys(bodies, id, half).into_iter().enumerate() {
+                        let l = &self.lists[axis];
+                        for (item, want) in [(lower(id), lo), (upper(id), hi)] {
+                            let have = l.key(item).ok_or(format!("object {id}: no item"))?;
+                            let (x, y) = (have.value_at(now), want.value_at(now));
+                            if (x - y).abs() > 1e-9 * (1.0 + x.abs()) {
+                                return Err(format!(
+                                    "object {id}: box end on axis {axis} at {x}, plan says {y}"
+                                ));
+                            }
+                        }
+                    }
+                }
+                Some(_) => return Err(format!("object {id} is live but not in the sweep")),
+                None if self.present(id) => {
+                    return Err(format!("object {id} is gone but still in the sweep"));
+                }
+                None => {}
+            }
+        }
+        let want: FxHashSet<(u32, u32)> = self.overlapping_pairs().into_iter().collect();
+        let mut have = FxHashSet::default();
+        for (a, ps) in self.partners.iter().enumerate() {
+            for &b in ps {
+                let a = a as u32;
+                if a < b {
+                    have.insert((a, b));
+                }
+            }
+        }
+        if want != have || have.len() != self.pairs {
+            let missing = want.difference(&have).next();
+            let extra = have.difference(&want).next();
+            return Err(format!(
+                "sweep pairs: {} kept, {} overlap (missing {missing:?}, extra {extra:?})",
+                self.pairs,
+                want.len()
+            ));
+        }
+        Ok(())
+    }
+}
