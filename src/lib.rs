@@ -55,5 +55,5 @@ pub mod scene;
 pub mod scenes;
 
 pub use kinetic_core::*;
-pub use kinetic_flight::{ConvexShape, ShapeError, Sweep, fatness};
+pub use kinetic_flight::{ConvexShape, Guards, ShapeError, Sweep, fatness};
 pub use kinetic_rolling::{ListLayout, RollingTree};

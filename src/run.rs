@@ -6,7 +6,7 @@ use kinetic_core::{
     BruteForce, CandidateStructure, ContactEvent, ContactKind, Shape, Stats, World, WorldError,
     WorldKind,
 };
-use kinetic_flight::{ConvexShape, Sweep};
+use kinetic_flight::{Choice, ConvexShape, Guards, Sweep};
 use kinetic_rolling::{ListLayout, RollingTree};
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -99,17 +99,42 @@ pub struct RunOutput {
 }
 
 /// The structure a scene gets when none is named: the lightest one that is exact for it.
-/// A plane world gets the rolling collision tree; a free world gets the sweep over boxes
-/// (exact for any sizes; the guards for scenes of very different sizes are not built yet).
+/// A plane world gets the rolling collision tree; a free world gets the sweep over boxes when
+/// its inner radii differ by at most [`kinetic_flight::SIGMA_MAX`], guards otherwise.
 pub fn choose_structure(scene: &Scene) -> StructureName {
     match scene.world {
         WorldKind::Plane => StructureName::RollingTree,
-        WorldKind::Free => StructureName::Sweep,
+        WorldKind::Free => match shapes_of(scene) {
+            Ok(shapes) if kinetic_flight::choose(&shapes) == Choice::Guards => {
+                StructureName::Guards
+            }
+            _ => StructureName::Sweep,
+        },
     }
+}
+
+/// The objects' shapes, or the first that cannot be built.
+pub fn shapes_of(scene: &Scene) -> Result<Vec<Shape>, RunError> {
+    let mut shapes = Vec::with_capacity(scene.objects.len());
+    for (i, o) in scene.objects.iter().enumerate() {
+        shapes.push(match &o.shape {
+            ShapeSpec::Ball { radius } => Shape::Ball { radius: *radius },
+            ShapeSpec::Cuboid { half_extents } => ConvexShape::cuboid(*half_extents)
+                .map_err(|e| RunError::Input(format!("objects[{i}].shape.cuboid: {e}")))?
+                .into_shape(),
+            ShapeSpec::ConvexHull { points } => ConvexShape::convex_hull(points)
+                .map_err(|e| {
+                    RunError::Input(format!("objects[{i}].shape.convex_hull.points: {e}"))
+                })?
+                .into_shape(),
+        });
+    }
+    Ok(shapes)
 }
 
 fn make_structure(
     scene: &Scene,
+    shapes: &[Shape],
     name: StructureName,
 ) -> Result<Box<dyn CandidateStructure>, RunError> {
     match name {
@@ -133,10 +158,7 @@ fn make_structure(
             )))
         }
         StructureName::Sweep => Ok(Box::new(Sweep::new())),
-        _ => Err(RunError::Input(format!(
-            "--structure {}: not supported yet (use brute-force)",
-            name.as_str()
-        ))),
+        StructureName::Guards => Ok(Box::new(Guards::new(kinetic_flight::guard_fatness(shapes)))),
     }
 }
 
@@ -146,25 +168,12 @@ pub fn build_world(
     structure: Option<StructureName>,
 ) -> Result<(World, StructureName), RunError> {
     let name = structure.unwrap_or_else(|| choose_structure(scene));
-    let mut shapes = Vec::with_capacity(scene.objects.len());
-    for (i, o) in scene.objects.iter().enumerate() {
-        shapes.push(match &o.shape {
-            ShapeSpec::Ball { radius } => Shape::Ball { radius: *radius },
-            ShapeSpec::Cuboid { half_extents } => ConvexShape::cuboid(*half_extents)
-                .map_err(|e| RunError::Input(format!("objects[{i}].shape.cuboid: {e}")))?
-                .into_shape(),
-            ShapeSpec::ConvexHull { points } => ConvexShape::convex_hull(points)
-                .map_err(|e| {
-                    RunError::Input(format!("objects[{i}].shape.convex_hull.points: {e}"))
-                })?
-                .into_shape(),
-        });
-    }
+    let shapes = shapes_of(scene)?;
     let mut world = World::with_structure(
         scene.world,
         scene.response,
         scene.walls,
-        make_structure(scene, name)?,
+        make_structure(scene, &shapes, name)?,
     )
     .map_err(|e| RunError::Input(format!("walls: {e}")))?;
     world

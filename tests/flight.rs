@@ -105,3 +105,45 @@ fn sweep_accelerated_hulls() {
     );
     assert!(contacts > 20, "{contacts}");
 }
+
+#[test]
+fn guards_balls_similar_sizes() {
+    let contacts = check(
+        FlightScene {
+            spin: 0.0,
+            ..scene(150, 1.0, ShapeMix::Balls, 4)
+        },
+        StructureName::Guards,
+    );
+    assert!(contacts > 20, "{contacts}");
+}
+
+#[test]
+fn both_structures_mixed_shapes_sigma_100() {
+    for structure in [StructureName::Sweep, StructureName::Guards] {
+        let contacts = check(scene(150, 100.0, ShapeMix::Mixed, 5), structure);
+        assert!(contacts > 10, "{contacts}");
+    }
+}
+
+#[test]
+fn both_structures_mixed_shapes_sigma_1e4_accelerated() {
+    for structure in [StructureName::Sweep, StructureName::Guards] {
+        let contacts = check(
+            FlightScene {
+                acceleration: 0.2,
+                ..scene(150, 1e4, ShapeMix::Mixed, 6)
+            },
+            structure,
+        );
+        assert!(contacts > 5, "{contacts}");
+    }
+}
+
+#[test]
+fn guards_spinning_hulls_and_cuboids() {
+    for (shapes, seed) in [(ShapeMix::Hulls, 7), (ShapeMix::Cuboids, 8)] {
+        let contacts = check(scene(100, 30.0, shapes, seed), StructureName::Guards);
+        assert!(contacts > 5, "{contacts}");
+    }
+}

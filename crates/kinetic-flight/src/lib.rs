@@ -11,6 +11,12 @@
 //! - [`Sweep`] (Section 3.1, Theorem 6): three kinetic sorted lists of the endpoints of the
 //!   boxes of the outer balls; every pair of overlapping boxes is a candidate pair. O(n) size
 //!   for objects of similar sizes.
+//! - [`Guards`] (Section 3.2): a grid of guards around every object (Lemma 7), kept as grid
+//!   planes in three kinetic sorted lists beside the boxes; an object is a candidate of each
+//!   larger object whose box holds one of its guards. Candidates stay proportional to n when
+//!   sizes differ by orders of magnitude, where the sweep's grow quadratically. The cones of
+//!   Lemma 9 are not built yet (see [`Guards`]).
+//! - [`choose`]: the sweep when inner radii differ by at most [`SIGMA_MAX`], guards otherwise.
 //!
 //! ```
 //! use kinetic_core::{ContactKind, FlightPlan, Response, Vec3, World, WorldKind};
@@ -32,8 +38,12 @@
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
+mod choose;
+mod guards;
 mod shape;
 mod sweep;
 
+pub use choose::{Choice, RHO_MAX, SIGMA_MAX, choose, guard_fatness, scale_factor};
+pub use guards::{GuardGrid, Guards};
 pub use shape::{ConvexShape, ShapeError, fatness};
 pub use sweep::Sweep;
