@@ -6,5 +6,5 @@ pub(crate) mod order;
 mod wall;
 
 pub use ball_ball_disjoint::ball_ball_gap;
-pub use order::{OrderCertificate, ScalarKey};
+pub use order::{OrderCertificate, ScalarKey, above_just_after};
 pub use wall::wall_gap;
