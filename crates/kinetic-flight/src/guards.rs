@@ -203,7 +203,7 @@ impl Guards {
         self.half.get(id as usize).is_some_and(|&h| h > 0.0)
     }
 
-    fn plan<'a>(bodies: &'a Bodies, id: u32) -> &'a kinetic_core::FlightPlan {
+    fn plan(bodies: &Bodies, id: u32) -> &kinetic_core::FlightPlan {
         &bodies[id as usize].as_ref().expect("a live object").plan
     }
 

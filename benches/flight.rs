@@ -1,0 +1,54 @@
+//! Bench command for the free-flight structures: candidate pairs, certificates, events and
+//! wall time against n for scale factors 1, 100 and 1e4 (asteroid fields of mixed spinning
+//! balls, cuboids and hulls), sweep against guards against the brute force.
+//!
+//! `cargo bench --bench flight` prints a markdown table; `-- --quick` stops at n = 1000.
+//! The brute force runs up to n = 1000 (it keeps n^2 / 2 certificates).
+
+use kinetic_collide::run::{StructureName, run_scene};
+use kinetic_collide::scenes::FlightScene;
+
+fn main() {
+    let quick = std::env::args().any(|a| a == "--quick");
+    let sizes: &[usize] = if quick {
+        &[100, 1000]
+    } else {
+        &[100, 1000, 10_000]
+    };
+    println!(
+        "| sigma | n | structure | pairs/object (mean) | pairs (max) | certificates (mean) | events | contacts | seconds |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for sigma in [1.0, 100.0, 1e4] {
+        for &n in sizes {
+            let scene = FlightScene {
+                horizon: 2.0,
+                ..FlightScene::asteroids(n, sigma, 1)
+            }
+            .build();
+            let mut contacts = None;
+            for s in [
+                StructureName::Sweep,
+                StructureName::Guards,
+                StructureName::BruteForce,
+            ] {
+                if s == StructureName::BruteForce && n > 1000 {
+                    continue;
+                }
+                let out = run_scene(&scene, Some(s)).expect("the scene runs");
+                let c = out.stats.begins + out.stats.ends;
+                assert_eq!(*contacts.get_or_insert(c), c, "{s:?} disagrees on contacts");
+                println!(
+                    "| {sigma} | {n} | {} | {:.2} | {} | {:.0} | {} | {} | {:.3} |",
+                    s.as_str(),
+                    out.stats.candidate_pairs_mean() / n as f64,
+                    out.stats.candidate_pairs_max,
+                    out.stats.certificates_mean(),
+                    out.stats.events_total(),
+                    c,
+                    out.wall_seconds
+                );
+            }
+        }
+    }
+}
