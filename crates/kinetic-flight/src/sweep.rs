@@ -37,6 +37,12 @@ fn upper(id: u32) -> u32 {
     2 * id + 1
 }
 
+/// Half the side of object `id`'s box: its outer radius, inflated.
+fn half_side(bodies: &Bodies, id: u32) -> Real {
+    let body = bodies[id as usize].as_ref().expect("a live object");
+    body.shape.outer_radius() * INFLATE
+}
+
 fn keys(bodies: &Bodies, id: u32, half: Real) -> [[ScalarKey; 2]; 3] {
     let plan = &bodies[id as usize].as_ref().expect("a live object").plan;
     std::array::from_fn(|axis| {
@@ -143,12 +149,7 @@ impl CandidateStructure for Sweep {
     fn insert(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>) {
         self.sync(now);
         self.grow(id);
-        let half = bodies[id as usize]
-            .as_ref()
-            .expect("a live object")
-            .shape
-            .outer_radius()
-            * INFLATE;
+        let half = half_side(bodies, id);
         self.half[id as usize] = half;
         for (axis, [lo, hi]) in keys(bodies, id, half).into_iter().enumerate() {
             let l = &mut self.lists[axis];
@@ -192,12 +193,7 @@ impl CandidateStructure for Sweep {
         let mut items: [Vec<(u32, ScalarKey)>; 3] = Default::default();
         for &id in ids {
             self.grow(id);
-            let half = bodies[id as usize]
-                .as_ref()
-                .expect("a live object")
-                .shape
-                .outer_radius()
-                * INFLATE;
+            let half = half_side(bodies, id);
             self.half[id as usize] = half;
             for (axis, [lo, hi]) in keys(bodies, id, half).into_iter().enumerate() {
                 items[axis].extend([(lower(id), lo), (upper(id), hi)]);
