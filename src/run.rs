@@ -102,14 +102,17 @@ pub struct RunOutput {
 /// A plane world gets the rolling collision tree; a free world gets the sweep over boxes when
 /// its inner radii differ by at most [`kinetic_flight::SIGMA_MAX`], guards otherwise.
 pub fn choose_structure(scene: &Scene) -> StructureName {
+    choose_for(scene, &shapes_of(scene).unwrap_or_default())
+}
+
+/// [`choose_structure`] for a scene whose shapes are built.
+fn choose_for(scene: &Scene, shapes: &[Shape]) -> StructureName {
     match scene.world {
         WorldKind::Plane => StructureName::RollingTree,
-        WorldKind::Free => match shapes_of(scene) {
-            Ok(shapes) if kinetic_flight::choose(&shapes) == Choice::Guards => {
-                StructureName::Guards
-            }
-            _ => StructureName::Sweep,
-        },
+        WorldKind::Free if kinetic_flight::choose(shapes) == Choice::Guards => {
+            StructureName::Guards
+        }
+        WorldKind::Free => StructureName::Sweep,
     }
 }
 
@@ -167,8 +170,8 @@ pub fn build_world(
     scene: &Scene,
     structure: Option<StructureName>,
 ) -> Result<(World, StructureName), RunError> {
-    let name = structure.unwrap_or_else(|| choose_structure(scene));
     let shapes = shapes_of(scene)?;
+    let name = structure.unwrap_or_else(|| choose_for(scene, &shapes));
     let mut world = World::with_structure(
         scene.world,
         scene.response,

@@ -31,10 +31,10 @@
 //! Objects fatter than the grid's rho (or whose centre is outside them) cannot be guarded;
 //! they are paired with every other object.
 
+use crate::axes::{AxisItems, AxisLists};
 use kinetic_core::certificates::above_just_after;
 use kinetic_core::{
-    Bodies, CandidateStructure, EventQueue, KineticSortedList, OrderCertificate, PairChange, Real,
-    ScalarKey,
+    Bodies, CandidateStructure, EventQueue, OrderCertificate, PairChange, Real, ScalarKey,
 };
 use rustc_hash::{FxHashMap, FxHashSet};
 
@@ -136,6 +136,15 @@ impl Watch {
             .fold(Real::INFINITY, Real::min)
     }
 
+    /// Its order certificates.
+    fn certificates(&self) -> usize {
+        self.ends
+            .iter()
+            .flatten()
+            .map(|e| usize::from(e.lo.is_some()) + usize::from(e.hi.is_some()))
+            .sum()
+    }
+
     /// Whether the box holds a guard: a grid plane strictly between its ends on every axis.
     fn holds(&self) -> bool {
         self.ends.iter().all(|[lo, hi]| hi.j > lo.j)
@@ -146,7 +155,7 @@ impl Watch {
 #[derive(Debug)]
 pub struct Guards {
     grid: GuardGrid,
-    lists: [KineticSortedList; 3],
+    lists: AxisLists,
     /// Inner radius per object (0 for ids not in the structure or unguarded).
     inner: Vec<Real>,
     /// Box half side per object (0 for ids not in the structure).
@@ -155,6 +164,8 @@ pub struct Guards {
     wild: Vec<bool>,
     wild_count: usize,
     watches: Vec<Option<Watch>>,
+    /// Order certificates over all watches.
+    watch_certs: usize,
     free: Vec<u32>,
     watch_index: FxHashMap<(u32, u32), u32>,
     watches_of: Vec<Vec<u32>>,
@@ -178,6 +189,7 @@ impl Guards {
             wild: Vec::new(),
             wild_count: 0,
             watches: Vec::new(),
+            watch_certs: 0,
             free: Vec::new(),
             watch_index: FxHashMap::default(),
             watches_of: Vec::new(),
@@ -208,7 +220,7 @@ impl Guards {
     }
 
     /// The list items of object `id` with their keys, per axis.
-    fn items(&self, bodies: &Bodies, id: u32) -> Vec<[(u32, ScalarKey); 3]> {
+    fn items(&self, bodies: &Bodies, id: u32) -> AxisItems {
         let plan = Self::plan(bodies, id);
         let (half, r) = (self.half[id as usize], self.inner[id as usize]);
         let key = |axis, off| ScalarKey::from_plan(plan, axis, off);
@@ -235,8 +247,7 @@ impl Guards {
     /// Whether the box of `boxer` overlaps the guard cube of `guarded`, from the list orders.
     fn cube_overlap(&self, guarded: u32, boxer: u32) -> bool {
         (0..3).all(|axis| {
-            let l = &self.lists[axis];
-            let p = |it| l.position(it).expect("an item of the list");
+            let p = |it| self.lists.position(axis, it);
             p(item(guarded, End::CubeLo)) < p(item(boxer, End::BoxHi))
                 && p(item(boxer, End::BoxLo)) < p(item(guarded, End::CubeHi))
         })
@@ -313,6 +324,14 @@ impl Guards {
         }
     }
 
+    /// Stores a watch (or clears its slot), keeping the count of watch certificates.
+    fn put_watch(&mut self, slot: u32, w: Option<Watch>) {
+        let certs = |w: &Option<Watch>| w.as_ref().map_or(0, Watch::certificates);
+        self.watch_certs -= certs(&self.watches[slot as usize]);
+        self.watch_certs += certs(&w);
+        self.watches[slot as usize] = w;
+    }
+
     fn schedule(&mut self, slot: u32) {
         let w = self.watches[slot as usize].as_ref().expect("a live watch");
         let due = w.due();
@@ -342,7 +361,7 @@ impl Guards {
                 (self.watches.len() - 1) as u32
             }
         };
-        self.watches[slot as usize] = Some(w);
+        self.put_watch(slot, Some(w));
         self.watch_index.insert((guarded, boxer), slot);
         self.watches_of[guarded as usize].push(slot);
         self.watches_of[boxer as usize].push(slot);
@@ -355,7 +374,7 @@ impl Guards {
         let Some(slot) = self.watch_index.remove(&(guarded, boxer)) else {
             return;
         };
-        self.watches[slot as usize] = None;
+        self.put_watch(slot, None);
         self.watch_queue.remove(slot);
         for o in [guarded, boxer] {
             let list = &mut self.watches_of[o as usize];
@@ -371,10 +390,7 @@ impl Guards {
 
     fn sync(&mut self, now: Real) {
         self.now = now;
-        for l in &mut self.lists {
-            l.advance_clock(now)
-                .expect("every swap before now was processed");
-        }
+        self.lists.sync(now);
     }
 
     fn grow(&mut self, id: u32) {
@@ -406,7 +422,7 @@ impl Guards {
     fn cube_pairs(&self) -> Vec<(u32, u32)> {
         let mut out = Vec::new();
         let (mut boxes, mut cubes): (Vec<u32>, Vec<u32>) = (Vec::new(), Vec::new());
-        for &it in self.lists[0].order() {
+        for &it in self.lists.list(0).order() {
             let (o, end) = decode(it);
             match end {
                 End::BoxLo => {
@@ -473,7 +489,7 @@ impl Guards {
                 OrderCertificate::new(&end, &p, now)
             });
         }
-        self.watches[slot as usize] = Some(w);
+        self.put_watch(slot, Some(w));
         self.schedule(slot);
         self.box_events += 1;
         self.set_pair(w.guarded, w.boxer, w.holds(), changes);
@@ -506,11 +522,7 @@ impl CandidateStructure for Guards {
     fn insert(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>) {
         self.sync(now);
         self.admit(bodies, id);
-        for axis_items in self.items(bodies, id) {
-            for (axis, (it, key)) in axis_items.into_iter().enumerate() {
-                self.lists[axis].insert(it, key).expect("a new item");
-            }
-        }
+        self.lists.insert(self.items(bodies, id));
         self.pair_new(id, bodies, changes);
     }
 
@@ -521,25 +533,19 @@ impl CandidateStructure for Guards {
         now: Real,
         changes: &mut Vec<PairChange>,
     ) {
-        if !self.lists[0].is_empty() || ids.len() < 2 {
+        if !self.lists.is_empty() || ids.len() < 2 {
             for &id in ids {
                 self.insert(id, bodies, now, changes);
             }
             return;
         }
         self.now = now;
-        let mut items: [Vec<(u32, ScalarKey)>; 3] = Default::default();
+        let mut all = Vec::new();
         for &id in ids {
             self.admit(bodies, id);
-            for axis_items in self.items(bodies, id) {
-                for (axis, it) in axis_items.into_iter().enumerate() {
-                    items[axis].push(it);
-                }
-            }
+            all.extend(self.items(bodies, id));
         }
-        for (axis, items) in items.into_iter().enumerate() {
-            self.lists[axis] = KineticSortedList::from_items(now, items).expect("valid keys");
-        }
+        self.lists = AxisLists::build(now, all);
         for (g, b) in self.cube_pairs() {
             self.open_watch(bodies, g, b, changes);
         }
@@ -569,11 +575,7 @@ impl CandidateStructure for Guards {
         for o in self.links[id as usize].clone() {
             self.link(id, o, -1, changes);
         }
-        for axis_items in self.items(bodies, id) {
-            for (axis, (it, _)) in axis_items.into_iter().enumerate() {
-                self.lists[axis].remove(it).expect("an item");
-            }
-        }
+        self.lists.remove(self.items(bodies, id));
         if self.wild[id as usize] {
             self.wild_count -= 1;
         }
@@ -587,16 +589,12 @@ impl CandidateStructure for Guards {
             return;
         }
         self.sync(now);
-        for axis_items in self.items(bodies, id) {
-            for (axis, (it, key)) in axis_items.into_iter().enumerate() {
-                self.lists[axis].set_key(it, key).expect("an item");
-            }
-        }
+        self.lists.set_keys(self.items(bodies, id));
         // Its watches start afresh from the new plan (a teleport moves the ends at once).
         for slot in self.watches_of[id as usize].clone() {
             let old = self.watches[slot as usize].expect("a live watch");
             let w = self.make_watch(bodies, old.guarded, old.boxer, now);
-            self.watches[slot as usize] = Some(w);
+            self.put_watch(slot, Some(w));
             self.schedule(slot);
             self.set_pair(w.guarded, w.boxer, w.holds(), changes);
         }
@@ -604,9 +602,8 @@ impl CandidateStructure for Guards {
 
     fn next_event_time(&self) -> Real {
         self.lists
-            .iter()
-            .map(|l| l.next_event_time())
-            .fold(self.watch_queue.next_time(), Real::min)
+            .next_event_time()
+            .min(self.watch_queue.next_time())
     }
 
     fn process_next_event(
@@ -614,18 +611,13 @@ impl CandidateStructure for Guards {
         bodies: &Bodies,
         changes: &mut Vec<PairChange>,
     ) -> &'static str {
-        let (axis, t) = (0..3).map(|k| (k, self.lists[k].next_event_time())).fold(
-            (0, Real::INFINITY),
-            |best, x| if x.1 < best.1 { x } else { best },
-        );
-        let tw = self.watch_queue.next_time();
-        if tw < t {
+        if self.watch_queue.next_time() < self.lists.next_event_time() {
             let (slot, time) = self.watch_queue.peek().expect("a due watch");
             self.now = self.now.max(time);
             self.on_watch(slot, bodies, changes);
             return "box";
         }
-        let Some(swap) = self.lists[axis].process_next_event(t) else {
+        let Some((_, swap)) = self.lists.next_swap() else {
             return "swap";
         };
         self.now = self.now.max(swap.time);
@@ -646,15 +638,7 @@ impl CandidateStructure for Guards {
     }
 
     fn certificates(&self) -> usize {
-        let lists: usize = self.lists.iter().map(|l| l.certificates()).sum();
-        let watches: usize = self
-            .watches
-            .iter()
-            .flatten()
-            .flat_map(|w| w.ends.iter().flatten())
-            .map(|e| usize::from(e.lo.is_some()) + usize::from(e.hi.is_some()))
-            .sum();
-        lists + watches
+        self.lists.certificates() + self.watch_certs
     }
 
     fn counters(&self) -> Vec<(&'static str, f64)> {
@@ -670,35 +654,20 @@ impl CandidateStructure for Guards {
     }
 
     fn validate(&self, bodies: &Bodies, now: Real) -> Result<(), String> {
-        for (axis, l) in self.lists.iter().enumerate() {
-            l.validate()
-                .map_err(|e| format!("guards list {axis}: {e}"))?;
-        }
         self.watch_queue.validate()?;
-        for (id, body) in bodies.iter().enumerate() {
-            let id = id as u32;
-            match body {
-                Some(_) if self.present(id) => {
-                    for axis_items in self.items(bodies, id) {
-                        for (axis, (it, want)) in axis_items.into_iter().enumerate() {
-                            let have = self.lists[axis]
-                                .key(it)
-                                .ok_or(format!("object {id}: item {it} missing"))?;
-                            let (x, y) = (have.value_at(now), want.value_at(now));
-                            if (x - y).abs() > 1e-9 * (1.0 + x.abs()) {
-                                return Err(format!(
-                                    "object {id}: item {it} on axis {axis} at {x}, plan says {y}"
-                                ));
-                            }
-                        }
-                    }
-                }
-                Some(_) => return Err(format!("object {id} is live but not in the guards")),
-                None if self.present(id) => {
-                    return Err(format!("object {id} is gone but still in the guards"));
-                }
-                None => {}
-            }
+        self.lists.validate(
+            "guards",
+            bodies,
+            now,
+            |id| self.present(id),
+            |id| self.items(bodies, id),
+        )?;
+        let certs: usize = self.watches.iter().flatten().map(Watch::certificates).sum();
+        if certs != self.watch_certs {
+            return Err(format!(
+                "watches hold {certs} certificates, counted {}",
+                self.watch_certs
+            ));
         }
         let want: FxHashSet<(u32, u32)> = self.cube_pairs().into_iter().collect();
         let have: FxHashSet<(u32, u32)> = self.watch_index.keys().copied().collect();

@@ -38,6 +38,7 @@
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
+mod axes;
 mod choose;
 mod guards;
 mod shape;

@@ -11,7 +11,8 @@
 //! objects that touch have boxes that overlap strictly: the pair is a candidate before its
 //! contact begins, even at a tie.
 
-use kinetic_core::{Bodies, CandidateStructure, KineticSortedList, PairChange, Real, ScalarKey};
+use crate::axes::{AxisItems, AxisLists};
+use kinetic_core::{Bodies, CandidateStructure, PairChange, Real, ScalarKey};
 use rustc_hash::FxHashSet;
 
 /// Relative inflation of the boxes.
@@ -20,13 +21,12 @@ const INFLATE: Real = 1.0 + 1e-9;
 /// The sweep over boxes: candidate pairs are the objects whose outer balls' boxes overlap.
 #[derive(Debug, Default)]
 pub struct Sweep {
-    lists: [KineticSortedList; 3],
+    lists: AxisLists,
     /// Half side of each object's box (0 for ids not in the structure).
     half: Vec<Real>,
     /// The objects whose boxes overlap each object's box.
     partners: Vec<Vec<u32>>,
     pairs: usize,
-    now: Real,
 }
 
 fn lower(id: u32) -> u32 {
@@ -43,14 +43,13 @@ fn half_side(bodies: &Bodies, id: u32) -> Real {
     body.shape.outer_radius() * INFLATE
 }
 
-fn keys(bodies: &Bodies, id: u32, half: Real) -> [[ScalarKey; 2]; 3] {
+/// The two ends of object `id`'s box of half side `half`.
+fn items(bodies: &Bodies, id: u32, half: Real) -> AxisItems {
     let plan = &bodies[id as usize].as_ref().expect("a live object").plan;
-    std::array::from_fn(|axis| {
-        [
-            ScalarKey::from_plan(plan, axis, -half),
-            ScalarKey::from_plan(plan, axis, half),
-        ]
-    })
+    vec![
+        std::array::from_fn(|axis| (lower(id), ScalarKey::from_plan(plan, axis, -half))),
+        std::array::from_fn(|axis| (upper(id), ScalarKey::from_plan(plan, axis, half))),
+    ]
 }
 
 impl Sweep {
@@ -66,7 +65,7 @@ impl Sweep {
 
     /// Swaps processed so far, over the three lists.
     pub fn swaps(&self) -> u64 {
-        self.lists.iter().map(|l| l.swap_count()).sum()
+        self.lists.swaps()
     }
 
     fn present(&self, id: u32) -> bool {
@@ -75,8 +74,7 @@ impl Sweep {
 
     /// Whether the boxes of `a` and `b` overlap on `axis`, read from that list's order.
     fn overlap_on(&self, axis: usize, a: u32, b: u32) -> bool {
-        let l = &self.lists[axis];
-        let p = |item| l.position(item).expect("an item of the list");
+        let p = |item| self.lists.position(axis, item);
         p(lower(a)) < p(upper(b)) && p(lower(b)) < p(upper(a))
     }
 
@@ -97,15 +95,6 @@ impl Sweep {
         changes.push(PairChange { a, b, delta: -1 });
     }
 
-    /// Brings every list's clock to `now` (every swap before it was processed).
-    fn sync(&mut self, now: Real) {
-        self.now = now;
-        for l in &mut self.lists {
-            l.advance_clock(now)
-                .expect("every swap before now was processed");
-        }
-    }
-
     fn grow(&mut self, id: u32) {
         let need = id as usize + 1;
         if self.half.len() < need {
@@ -119,7 +108,7 @@ impl Sweep {
         let mut out = Vec::new();
         let mut active: Vec<u32> = Vec::new();
         let mut slot: Vec<u32> = vec![u32::MAX; self.half.len()];
-        for &item in self.lists[0].order() {
+        for &item in self.lists.list(0).order() {
             let id = item / 2;
             if item % 2 == 0 {
                 for &other in &active {
@@ -147,27 +136,23 @@ impl CandidateStructure for Sweep {
     }
 
     fn insert(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>) {
-        self.sync(now);
+        self.lists.sync(now);
         self.grow(id);
         let half = half_side(bodies, id);
         self.half[id as usize] = half;
-        for (axis, [lo, hi]) in keys(bodies, id, half).into_iter().enumerate() {
-            let l = &mut self.lists[axis];
-            l.insert(lower(id), lo).expect("a new item");
-            l.insert(upper(id), hi).expect("a new item");
-        }
+        self.lists.insert(items(bodies, id, half));
         // The boxes it overlaps: those whose lower x end is before its upper x end and whose
         // upper x end is after its lower x end.
-        let x = &self.lists[0];
+        let x = self.lists.list(0);
         let (lo_x, hi_x) = (
-            x.position(lower(id)).expect("inserted"),
-            x.position(upper(id)).expect("inserted"),
+            self.lists.position(0, lower(id)),
+            self.lists.position(0, upper(id)),
         );
         let found: Vec<u32> = x.order()[..hi_x]
             .iter()
             .filter(|&&item| item % 2 == 0 && item / 2 != id)
             .map(|&item| item / 2)
-            .filter(|&o| x.position(upper(o)).expect("an item") > lo_x)
+            .filter(|&o| self.lists.position(0, upper(o)) > lo_x)
             .filter(|&o| self.overlap_on(1, id, o) && self.overlap_on(2, id, o))
             .collect();
         for o in found {
@@ -182,43 +167,35 @@ impl CandidateStructure for Sweep {
         now: Real,
         changes: &mut Vec<PairChange>,
     ) {
-        if self.pairs > 0 || !self.lists[0].is_empty() || ids.len() < 2 {
+        if !self.lists.is_empty() || ids.len() < 2 {
             for &id in ids {
                 self.insert(id, bodies, now, changes);
             }
             return;
         }
         // An empty sweep: build the lists in one go and sweep for the overlapping boxes.
-        self.now = now;
-        let mut items: [Vec<(u32, ScalarKey)>; 3] = Default::default();
+        let mut all = Vec::with_capacity(2 * ids.len());
         for &id in ids {
             self.grow(id);
             let half = half_side(bodies, id);
             self.half[id as usize] = half;
-            for (axis, [lo, hi]) in keys(bodies, id, half).into_iter().enumerate() {
-                items[axis].extend([(lower(id), lo), (upper(id), hi)]);
-            }
+            all.extend(items(bodies, id, half));
         }
-        for (axis, items) in items.into_iter().enumerate() {
-            self.lists[axis] = KineticSortedList::from_items(now, items).expect("valid keys");
-        }
+        self.lists = AxisLists::build(now, all);
         for (a, b) in self.overlapping_pairs() {
             self.link(a, b, changes);
         }
     }
 
-    fn remove(&mut self, id: u32, _: &Bodies, now: Real, changes: &mut Vec<PairChange>) {
+    fn remove(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>) {
         if !self.present(id) {
             return;
         }
-        self.sync(now);
+        self.lists.sync(now);
         for o in self.partners[id as usize].clone() {
             self.unlink(id.min(o), id.max(o), changes);
         }
-        for l in &mut self.lists {
-            l.remove(lower(id)).expect("an item");
-            l.remove(upper(id)).expect("an item");
-        }
+        self.lists.remove(items(bodies, id, self.half[id as usize]));
         self.half[id as usize] = 0.0;
     }
 
@@ -226,35 +203,19 @@ impl CandidateStructure for Sweep {
         if !self.present(id) {
             return;
         }
-        self.sync(now);
-        // An item now out of place (a teleport) fails its certificates at once and moves by
-        // ordinary swaps.
-        for (axis, [lo, hi]) in keys(bodies, id, self.half[id as usize])
-            .into_iter()
-            .enumerate()
-        {
-            let l = &mut self.lists[axis];
-            l.set_key(lower(id), lo).expect("an item");
-            l.set_key(upper(id), hi).expect("an item");
-        }
+        self.lists.sync(now);
+        self.lists
+            .set_keys(items(bodies, id, self.half[id as usize]));
     }
 
     fn next_event_time(&self) -> Real {
-        self.lists
-            .iter()
-            .map(|l| l.next_event_time())
-            .fold(Real::INFINITY, Real::min)
+        self.lists.next_event_time()
     }
 
     fn process_next_event(&mut self, _: &Bodies, changes: &mut Vec<PairChange>) -> &'static str {
-        let (axis, t) = (0..3).map(|k| (k, self.lists[k].next_event_time())).fold(
-            (0, Real::INFINITY),
-            |best, x| if x.1 < best.1 { x } else { best },
-        );
-        let Some(swap) = self.lists[axis].process_next_event(t) else {
+        let Some((axis, swap)) = self.lists.next_swap() else {
             return "swap";
         };
-        self.now = self.now.max(swap.time);
         let (a, b) = (swap.left / 2, swap.right / 2);
         // An upper end passing a lower end of another box (they meet on this axis) or a lower
         // end passing an upper end (they part) changes the pair iff the other axes overlap.
@@ -276,7 +237,7 @@ impl CandidateStructure for Sweep {
     }
 
     fn certificates(&self) -> usize {
-        self.lists.iter().map(|l| l.certificates()).sum()
+        self.lists.certificates()
     }
 
     fn counters(&self) -> Vec<(&'static str, f64)> {
@@ -284,35 +245,13 @@ impl CandidateStructure for Sweep {
     }
 
     fn validate(&self, bodies: &Bodies, now: Real) -> Result<(), String> {
-        for (axis, l) in self.lists.iter().enumerate() {
-            l.validate()
-                .map_err(|e| format!("sweep list {axis}: {e}"))?;
-        }
-        for (id, body) in bodies.iter().enumerate() {
-            let id = id as u32;
-            match body {
-                Some(b) if self.present(id) => {
-                    let half = b.shape.outer_radius() * INFLATE;
-                    for (axis, [lo, hi]) in keys(bodies, id, half).into_iter().enumerate() {
-                        let l = &self.lists[axis];
-                        for (item, want) in [(lower(id), lo), (upper(id), hi)] {
-                            let have = l.key(item).ok_or(format!("object {id}: no item"))?;
-                            let (x, y) = (have.value_at(now), want.value_at(now));
-                            if (x - y).abs() > 1e-9 * (1.0 + x.abs()) {
-                                return Err(format!(
-                                    "object {id}: box end on axis {axis} at {x}, plan says {y}"
-                                ));
-                            }
-                        }
-                    }
-                }
-                Some(_) => return Err(format!("object {id} is live but not in the sweep")),
-                None if self.present(id) => {
-                    return Err(format!("object {id} is gone but still in the sweep"));
-                }
-                None => {}
-            }
-        }
+        self.lists.validate(
+            "sweep",
+            bodies,
+            now,
+            |id| self.present(id),
+            |id| items(bodies, id, half_side(bodies, id)),
+        )?;
         let want: FxHashSet<(u32, u32)> = self.overlapping_pairs().into_iter().collect();
         let mut have = FxHashSet::default();
         for (a, ps) in self.partners.iter().enumerate() {
