@@ -1,12 +1,16 @@
 //! Bench command for the free-flight structures: candidate pairs, certificates, events and
-//! wall time against n for scale factors 1, 100 and 1e4 (asteroid fields of mixed spinning
-//! balls, cuboids and hulls), sweep against guards against the brute force.
+//! wall time against n, sweep against guards against the brute force, for
+//! - asteroid fields of mixed spinning balls, cuboids and hulls at scale factors 1, 100 and
+//!   1e4;
+//! - nests (the paper's Fig. 6): clusters of small balls under chains of ever larger balls
+//!   whose boxes all hold the cluster, at scale factors 100 and 1e4.
 //!
 //! `cargo bench --bench flight` prints a markdown table; `-- --quick` stops at n = 1000.
 //! The brute force runs up to n = 1000 (it keeps n^2 / 2 certificates).
 
 use kinetic_collide::run::{StructureName, run_scene};
-use kinetic_collide::scenes::FlightScene;
+use kinetic_collide::scene::Scene;
+use kinetic_collide::scenes::{FlightScene, NestScene};
 
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
@@ -16,16 +20,27 @@ fn main() {
         &[100, 1000, 10_000]
     };
     println!(
-        "| sigma | n | structure | pairs/object (mean) | pairs (max) | certificates (mean) | events | contacts | seconds |"
+        "| scene | sigma | n | structure | pairs/object (mean) | pairs (max) | certificates (mean) | events | contacts | seconds |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    let mut scenes: Vec<(&str, f64, usize, Scene)> = Vec::new();
     for sigma in [1.0, 100.0, 1e4] {
         for &n in sizes {
             let scene = FlightScene {
                 horizon: 2.0,
                 ..FlightScene::asteroids(n, sigma, 1)
-            }
-            .build();
+            };
+            scenes.push(("asteroids", sigma, n, scene.build()));
+        }
+    }
+    for sigma in [100.0, 1e4] {
+        for &n in sizes {
+            scenes.push(("nests", sigma, n, NestScene::new(n, sigma, 1).build()));
+        }
+    }
+    for (name, sigma, _, scene) in scenes {
+        let n = scene.objects.len();
+        {
             let mut contacts = None;
             for s in [
                 StructureName::Sweep,
@@ -39,7 +54,7 @@ fn main() {
                 let c = out.stats.begins + out.stats.ends;
                 assert_eq!(*contacts.get_or_insert(c), c, "{s:?} disagrees on contacts");
                 println!(
-                    "| {sigma} | {n} | {} | {:.2} | {} | {:.0} | {} | {} | {:.3} |",
+                    "| {name} | {sigma} | {n} | {} | {:.2} | {} | {:.0} | {} | {} | {:.3} |",
                     s.as_str(),
                     out.stats.candidate_pairs_mean() / n as f64,
                     out.stats.candidate_pairs_max,

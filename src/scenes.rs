@@ -307,3 +307,146 @@ impl FlightScene {
         }
     }
 }
+
+/// Parameters of a scene of the paper's Fig. 6: clusters of small balls, each watched by
+/// chains of ever larger balls whose boxes all hold the cluster while the balls stay apart.
+///
+/// Each cluster has four chains along the tetrahedron's directions (each moved to the middle
+/// of the guard cone it points into, so that the guards see a chain inside one cone). A
+/// chain's balls grow by a factor `growth`, each centred 1.5 radii from the cluster: its box
+/// reaches past the cluster, the ball stops half a radius short, and the next ball starts
+/// beyond it; chains in different directions stay apart at any sizes. Everything in a
+/// cluster drifts together, the small balls jiggle, and nothing responds to contact.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NestScene {
+    /// Number of clusters.
+    pub clusters: usize,
+    /// Small balls per cluster.
+    pub small: usize,
+    /// Radius of the small balls.
+    pub r_min: f64,
+    /// Radius of the first ball of each chain.
+    pub r_first: f64,
+    /// Largest over smallest radius: the chains stop before exceeding it.
+    pub sigma: f64,
+    /// Factor between consecutive balls of a chain (at least 5 keeps them apart).
+    pub growth: f64,
+    /// Speed of the small balls relative to their cluster.
+    pub jiggle: f64,
+    /// The horizon.
+    pub horizon: f64,
+    /// The random seed.
+    pub seed: u64,
+}
+
+impl NestScene {
+    /// Chains per cluster.
+    pub const CHAINS: usize = 4;
+
+    /// Nests of 100 small balls of radius 0.5 under chains up to `sigma` times larger, in
+    /// enough clusters to make about `n` objects.
+    pub fn new(n: usize, sigma: f64, seed: u64) -> NestScene {
+        let mut scene = NestScene {
+            clusters: 1,
+            small: 100,
+            r_min: 0.5,
+            r_first: 20.0,
+            sigma,
+            growth: 5.2,
+            jiggle: 0.2,
+            horizon: 2.0,
+            seed,
+        };
+        scene.clusters = n
+            .div_ceil(scene.small + Self::CHAINS * scene.levels())
+            .max(1);
+        scene
+    }
+
+    /// Balls per chain.
+    pub fn levels(&self) -> usize {
+        let mut r = self.r_first;
+        let mut k = 0;
+        while r <= self.r_min * self.sigma * (1.0 + 1e-12) {
+            k += 1;
+            r *= self.growth;
+        }
+        k
+    }
+
+    /// The scene itself.
+    pub fn build(&self) -> Scene {
+        use crate::scene::ShapeSpec;
+        let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+        let levels = self.levels();
+        let largest = self.r_first * self.growth.powi(levels.saturating_sub(1) as i32);
+        let spacing = 6.0 * largest.max(self.r_first);
+        let per_side = (self.clusters as f64).cbrt().ceil() as usize;
+        let cones = kinetic_flight::ConeSet::new(1.0);
+        let chains: Vec<DVec3> = [
+            DVec3::new(1.0, 1.0, 1.0),
+            DVec3::new(1.0, -1.0, -1.0),
+            DVec3::new(-1.0, 1.0, -1.0),
+            DVec3::new(-1.0, -1.0, 1.0),
+        ]
+        .iter()
+        .map(|&t| {
+            // Slightly off the diagonal, which lies on cone facets.
+            let cone = cones.cone(cones.locate(t + DVec3::new(0.0, 0.05, 0.1) * t));
+            cone.rays.iter().sum::<DVec3>().normalize()
+        })
+        .collect();
+        let mut objects = Vec::new();
+        let unit = |rng: &mut ChaCha8Rng| {
+            DVec3::new(
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+            )
+            .normalize_or_zero()
+        };
+        let ball = |radius: f64, position: DVec3, velocity: DVec3| SceneObject {
+            shape: ShapeSpec::Ball { radius },
+            position,
+            velocity,
+            acceleration: DVec3::ZERO,
+            orientation: glam::DQuat::IDENTITY,
+            angular_velocity: DVec3::ZERO,
+        };
+        for c in 0..self.clusters {
+            let cell = DVec3::new(
+                (c % per_side) as f64,
+                ((c / per_side) % per_side) as f64,
+                (c / (per_side * per_side)) as f64,
+            );
+            let centre = cell * spacing;
+            let drift = unit(&mut rng) * 0.1;
+            for dir in &chains {
+                let mut r = self.r_first;
+                for _ in 0..levels {
+                    objects.push(ball(r, centre + *dir * (1.5 * r), drift));
+                    r *= self.growth;
+                }
+            }
+            // The small balls start within 0.4 r_first of the cluster's centre, clear of
+            // the first balls of the chains (half a radius away).
+            let reach = (0.4 * self.r_first - self.r_min) / 3f64.sqrt();
+            for _ in 0..self.small {
+                let offset = DVec3::new(
+                    rng.random_range(-1.0..1.0),
+                    rng.random_range(-1.0..1.0),
+                    rng.random_range(-1.0..1.0),
+                ) * reach;
+                let velocity = drift + unit(&mut rng) * self.jiggle;
+                objects.push(ball(self.r_min, centre + offset, velocity));
+            }
+        }
+        Scene {
+            world: WorldKind::Free,
+            horizon: self.horizon,
+            response: Response::None,
+            walls: None,
+            objects,
+        }
+    }
+}

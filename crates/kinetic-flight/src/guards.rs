@@ -32,9 +32,12 @@
 //! they are paired with every other object.
 
 use crate::axes::{AxisItems, AxisLists};
-use kinetic_core::certificates::above_just_after;
+use crate::cones::ConeSet;
+use kinetic_core::certificates::{above_just_after, ball_ball_gap};
+use kinetic_core::roots::first_sign_change;
 use kinetic_core::{
-    Bodies, CandidateStructure, EventQueue, OrderCertificate, PairChange, Real, ScalarKey,
+    Bodies, CandidateStructure, EventQueue, OrderCertificate, PairChange, Poly, Real, ScalarKey,
+    Vec3,
 };
 use rustc_hash::{FxHashMap, FxHashSet};
 
@@ -125,6 +128,14 @@ struct Watch {
     boxer: u32,
     /// Per axis, the lower and upper end of the box.
     ends: [[EndWatch; 2]; 3],
+    /// The cone (of every guard of `guarded` alike) holding the centre of `boxer`, while the
+    /// whole guard cube sees the centre in one cone; until `cone_due`.
+    cone: Option<u32>,
+    cone_due: Real,
+    /// A closer object of the same cone, apart from `boxer`: then `boxer` holds no guard of
+    /// `guarded` (Lemma 9), until `dominator_due`.
+    dominator: Option<u32>,
+    dominator_due: Real,
 }
 
 impl Watch {
@@ -149,6 +160,29 @@ impl Watch {
     fn holds(&self) -> bool {
         self.ends.iter().all(|[lo, hi]| hi.j > lo.j)
     }
+
+    /// Whether the pair is a candidate: the box holds a guard and no closer object in the
+    /// same cone proves the guard is not inside `boxer`.
+    fn wanted(&self) -> bool {
+        self.holds() && self.dominator.is_none()
+    }
+
+    fn cone_event_time(&self) -> Real {
+        self.cone_due.min(self.dominator_due)
+    }
+}
+
+/// The first time after `now` at which `p` (in local time) changes sign, never `now` itself.
+fn due(p: &Poly, now: Real) -> Real {
+    first_sign_change(p).map_or(Real::INFINITY, |tau| {
+        let t = now + tau;
+        if t > now { t } else { now.next_up() }
+    })
+}
+
+/// `n . d(tau) - shift` for a relative centre `d` given as local coefficients.
+fn along(n: Vec3, d: &[Vec3; 3], shift: Real) -> Poly {
+    Poly::new(&[n.dot(d[0]) - shift, n.dot(d[1]), n.dot(d[2])])
 }
 
 /// The guards structure (without cones; see the module notes).
@@ -170,6 +204,15 @@ pub struct Guards {
     watch_index: FxHashMap<(u32, u32), u32>,
     watches_of: Vec<Vec<u32>>,
     watch_queue: EventQueue,
+    cones: ConeSet,
+    /// Per watch slot, the watches it dominates.
+    dominatees: Vec<Vec<u32>>,
+    /// The watches per (guarded, cone) whose centres the whole guard cube sees in the cone.
+    by_cone: FxHashMap<(u32, u32), Vec<u32>>,
+    /// Centre events (a centre crossing a facet of a cone) and dominance ends.
+    cone_queue: EventQueue,
+    centre_events: u64,
+    dominance_events: u64,
     /// Directed pairs (guarded, boxer) whose box holds a guard.
     pairs: FxHashSet<(u32, u32)>,
     /// Per object, the objects it is paired with either way (guarded pairs and wild pairs).
@@ -194,6 +237,12 @@ impl Guards {
             watch_index: FxHashMap::default(),
             watches_of: Vec::new(),
             watch_queue: EventQueue::new(),
+            cones: ConeSet::new(rho),
+            dominatees: Vec::new(),
+            by_cone: FxHashMap::default(),
+            cone_queue: EventQueue::new(),
+            centre_events: 0,
+            dominance_events: 0,
             pairs: FxHashSet::default(),
             links: Vec::new(),
             box_events: 0,
@@ -295,6 +344,225 @@ impl Guards {
             ends: std::array::from_fn(|axis| {
                 [false, true].map(|upper| self.end_watch(bodies, guarded, boxer, axis, upper, now))
             }),
+            cone: None,
+            cone_due: Real::INFINITY,
+            dominator: None,
+            dominator_due: Real::INFINITY,
+        }
+    }
+
+    /// The centre of `boxer` relative to that of `guarded`, in local time from `now`.
+    fn relative(bodies: &Bodies, guarded: u32, boxer: u32, now: Real) -> [Vec3; 3] {
+        let (a, b) = (
+            Self::plan(bodies, boxer).local_coefficients(now),
+            Self::plan(bodies, guarded).local_coefficients(now),
+        );
+        [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+    }
+
+    /// Half the side of the guard cube of `guarded`, a relative 1e-9 wider.
+    fn cube_half(&self, guarded: u32) -> Real {
+        self.grid
+            .offset(self.inner[guarded as usize], self.grid.m - 1)
+            * (1.0 + 1e-9)
+    }
+
+    /// The cone that every guard of `guarded` sees the centre of `boxer` in, with the time to
+    /// look again: when the centre leaves it (a centre event) or, with no such cone, when
+    /// the cube might come to lie inside one.
+    ///
+    /// With hysteresis, so that rounding at a crossing cannot bring the same crossing back
+    /// an instant later: the cube enters a cone only with every margin at least `slack` (a
+    /// relative 1e-9 of the distance), and leaves it when a margin reaches 0; outside, it
+    /// looks again when a margin below `slack` reaches `2 slack`, or when the centre is
+    /// `slack` past a facet of its cone.
+    fn cone_state(&self, bodies: &Bodies, guarded: u32, boxer: u32) -> (Option<u32>, Real) {
+        let now = self.now;
+        let d = Self::relative(bodies, guarded, boxer, now);
+        let i = self.cones.locate(d[0]);
+        let cone = self.cones.cone(i);
+        // The cube lies in the cone when its farthest corner from each facet plane does:
+        // n . d >= a |n|_1 for the cube's half side a.
+        let half = self.cube_half(guarded);
+        let slack = 1e-9 * (d[0].length() + half);
+        let margins = cone
+            .normals
+            .map(|n| along(n, &d, half * n.abs().element_sum()));
+        let first = |ps: &mut dyn Iterator<Item = Poly>| {
+            ps.map(|p| due(&p, now)).fold(Real::INFINITY, Real::min)
+        };
+        if margins
+            .iter()
+            .all(|p| p.c[0] >= slack && p.sign_just_after_zero() > 0)
+        {
+            (Some(i), first(&mut margins.into_iter()))
+        } else {
+            let rising = margins.into_iter().filter(|p| p.c[0] < slack).map(|p| {
+                let mut p = p;
+                p.c[0] -= 2.0 * slack;
+                p
+            });
+            let leaving = cone.normals.map(|n| along(n, &d, -slack));
+            (None, first(&mut rising.chain(leaving)))
+        }
+    }
+
+    /// The watch of the same guarded object and cone that proves `slot`'s boxer holds no
+    /// guard, with the time the proof lasts: its centre is closer along the representative
+    /// edge, and the outer balls are apart (Lemma 9: a centre between a guard and the
+    /// triangle of the cone through the other centre lies inside that other object, had it
+    /// held the guard). Of several, the one whose proof lasts longest.
+    fn find_dominator(&self, bodies: &Bodies, slot: u32) -> (Option<u32>, Real) {
+        let w = self.watches[slot as usize].expect("a live watch");
+        let Some(cone) = w.cone else {
+            return (None, Real::INFINITY);
+        };
+        let Some(list) = self.by_cone.get(&(w.guarded, cone)) else {
+            return (None, Real::INFINITY);
+        };
+        let now = self.now;
+        let edge = self.cones.cone(cone).edge();
+        let me = Self::plan(bodies, w.boxer).local_coefficients(now);
+        let mut best: (Option<u32>, Real) = (None, Real::NEG_INFINITY);
+        for &o in list {
+            if o == slot {
+                continue;
+            }
+            let other = self.watches[o as usize].expect("a live watch").boxer;
+            let them = Self::plan(bodies, other).local_coefficients(now);
+            let farther = Poly::new(&[
+                edge.dot(me[0] - them[0]),
+                edge.dot(me[1] - them[1]),
+                edge.dot(me[2] - them[2]),
+            ]);
+            // Hysteresis as for the cones: a dominance starts only with a relative 1e-9 to
+            // spare, so rounding where one ends cannot restart it an instant later.
+            let reach = self.half[w.boxer as usize] + self.half[other as usize];
+            let slack = 1e-9 * ((me[0] - them[0]).length() + reach);
+            if farther.c[0] < slack || farther.sign_just_after_zero() <= 0 {
+                continue;
+            }
+            let apart = ball_ball_gap(&me, &them, reach * reach);
+            if apart.c[0] < slack * reach || apart.sign_just_after_zero() <= 0 {
+                continue;
+            }
+            let until = due(&farther, now).min(due(&apart, now));
+            if until > best.1 {
+                best = (Some(o), until);
+            }
+        }
+        match best.0 {
+            Some(_) => best,
+            None => (None, Real::INFINITY),
+        }
+    }
+
+    fn schedule_cone(&mut self, slot: u32) {
+        let w = self.watches[slot as usize].as_ref().expect("a live watch");
+        let due = w.cone_event_time();
+        if due.is_finite() {
+            self.cone_queue.schedule(slot, due, u64::from(slot));
+        } else {
+            self.cone_queue.remove(slot);
+        }
+    }
+
+    /// Takes `slot` out of its cone's list and drops its dominance links; the watches it
+    /// dominated are pushed to `redo`.
+    fn detach(&mut self, slot: u32, redo: &mut Vec<u32>) {
+        let mut w = self.watches[slot as usize].expect("a live watch");
+        if let Some(c) = w.cone.take() {
+            let key = (w.guarded, c);
+            let list = self.by_cone.get_mut(&key).expect("a listed cone");
+            let i = list
+                .iter()
+                .position(|&s| s == slot)
+                .expect("a listed watch");
+            list.swap_remove(i);
+            if list.is_empty() {
+                self.by_cone.remove(&key);
+            }
+        }
+        if let Some(d) = w.dominator.take() {
+            let list = &mut self.dominatees[d as usize];
+            let i = list.iter().position(|&s| s == slot).expect("a dominatee");
+            list.swap_remove(i);
+        }
+        w.cone_due = Real::INFINITY;
+        w.dominator_due = Real::INFINITY;
+        self.put_watch(slot, Some(w));
+        for d in std::mem::take(&mut self.dominatees[slot as usize]) {
+            let mut x = self.watches[d as usize].expect("a live watch");
+            x.dominator = None;
+            x.dominator_due = Real::INFINITY;
+            self.put_watch(d, Some(x));
+            redo.push(d);
+        }
+    }
+
+    /// Looks again for a dominator of `slot` and updates its pair.
+    fn redominate(&mut self, bodies: &Bodies, slot: u32, changes: &mut Vec<PairChange>) {
+        let Some(mut w) = self.watches[slot as usize] else {
+            return;
+        };
+        if let Some(d) = w.dominator.take() {
+            let list = &mut self.dominatees[d as usize];
+            let i = list.iter().position(|&s| s == slot).expect("a dominatee");
+            list.swap_remove(i);
+        }
+        self.put_watch(slot, Some(w));
+        let (dominator, until) = self.find_dominator(bodies, slot);
+        w.dominator = dominator;
+        w.dominator_due = until;
+        if let Some(d) = dominator {
+            self.dominatees[d as usize].push(slot);
+        }
+        self.put_watch(slot, Some(w));
+        self.schedule_cone(slot);
+        self.set_pair(w.guarded, w.boxer, w.wanted(), changes);
+    }
+
+    /// Places the watches `slots` in their cones afresh (they are new, or their plans
+    /// changed, or a centre crossed a facet) and settles every dominance that this touches.
+    fn recone(&mut self, bodies: &Bodies, slots: &[u32], changes: &mut Vec<PairChange>) {
+        let mut redo = Vec::new();
+        for &s in slots {
+            self.detach(s, &mut redo);
+        }
+        for &s in slots {
+            let mut w = self.watches[s as usize].expect("a live watch");
+            let (cone, until) = self.cone_state(bodies, w.guarded, w.boxer);
+            w.cone = cone;
+            w.cone_due = until;
+            self.put_watch(s, Some(w));
+            redo.push(s);
+            if let Some(c) = cone {
+                let list = self.by_cone.entry((w.guarded, c)).or_default();
+                // Undominated watches of this cone may now be dominated by this one.
+                redo.extend(
+                    list.iter().copied().filter(|&o| {
+                        self.watches[o as usize].is_some_and(|x| x.dominator.is_none())
+                    }),
+                );
+                list.push(s);
+            }
+        }
+        redo.sort_unstable();
+        redo.dedup();
+        for s in redo {
+            self.redominate(bodies, s, changes);
+        }
+    }
+
+    /// A cone event of watch `slot`: its centre crossed a facet, or its dominance ended.
+    fn on_cone(&mut self, slot: u32, bodies: &Bodies, changes: &mut Vec<PairChange>) {
+        let w = self.watches[slot as usize].expect("a live watch");
+        if w.cone_due <= w.dominator_due {
+            self.centre_events += 1;
+            self.recone(bodies, &[slot], changes);
+        } else {
+            self.dominance_events += 1;
+            self.redominate(bodies, slot, changes);
         }
     }
 
@@ -365,17 +633,29 @@ impl Guards {
         self.watch_index.insert((guarded, boxer), slot);
         self.watches_of[guarded as usize].push(slot);
         self.watches_of[boxer as usize].push(slot);
+        if self.dominatees.len() <= slot as usize {
+            self.dominatees.resize(slot as usize + 1, Vec::new());
+        }
         self.schedule(slot);
-        self.set_pair(guarded, boxer, w.holds(), changes);
+        self.recone(bodies, &[slot], changes);
     }
 
     /// Stops watching (guarded, boxer).
-    fn close_watch(&mut self, guarded: u32, boxer: u32, changes: &mut Vec<PairChange>) {
+    fn close_watch(
+        &mut self,
+        bodies: &Bodies,
+        guarded: u32,
+        boxer: u32,
+        changes: &mut Vec<PairChange>,
+    ) {
         let Some(slot) = self.watch_index.remove(&(guarded, boxer)) else {
             return;
         };
+        let mut redo = Vec::new();
+        self.detach(slot, &mut redo);
         self.put_watch(slot, None);
         self.watch_queue.remove(slot);
+        self.cone_queue.remove(slot);
         for o in [guarded, boxer] {
             let list = &mut self.watches_of[o as usize];
             let i = list
@@ -386,6 +666,9 @@ impl Guards {
         }
         self.free.push(slot);
         self.set_pair(guarded, boxer, false, changes);
+        for d in redo {
+            self.redominate(bodies, d, changes);
+        }
     }
 
     fn sync(&mut self, now: Real) {
@@ -492,7 +775,74 @@ impl Guards {
         self.put_watch(slot, Some(w));
         self.schedule(slot);
         self.box_events += 1;
-        self.set_pair(w.guarded, w.boxer, w.holds(), changes);
+        self.set_pair(w.guarded, w.boxer, w.wanted(), changes);
+    }
+
+    /// Checks the cone and dominance of watch `slot` against the plans at `now`.
+    fn validate_cone(
+        &self,
+        bodies: &Bodies,
+        slot: u32,
+        w: &Watch,
+        now: Real,
+    ) -> Result<(), String> {
+        let (g, b) = (w.guarded, w.boxer);
+        let due = w.cone_event_time();
+        if self.cone_queue.time_of(slot).unwrap_or(Real::INFINITY) != due {
+            return Err(format!(
+                "watch ({g}, {b}): cone event not scheduled at {due}"
+            ));
+        }
+        let d = Self::plan(bodies, b).position_at(now) - Self::plan(bodies, g).position_at(now);
+        let eps = 1e-9 * (1.0 + d.length() + Self::plan(bodies, g).position_at(now).length());
+        let soon = now + 1e-9 * now.abs().max(1.0);
+        if let Some(c) = w.cone {
+            if !self.by_cone.get(&(g, c)).is_some_and(|l| l.contains(&slot)) {
+                return Err(format!("watch ({g}, {b}) missing from its cone {c}"));
+            }
+            if w.cone_due > soon {
+                let half = self.cube_half(g);
+                for n in self.cones.cone(c).normals {
+                    let margin = n.dot(d) - half * n.abs().element_sum();
+                    if margin < -eps {
+                        return Err(format!(
+                            "watch ({g}, {b}): guard cube leaves cone {c} by {margin}"
+                        ));
+                    }
+                }
+            }
+        }
+        if let Some(o) = w.dominator {
+            let x = self.watches[o as usize].ok_or("a dead dominator")?;
+            if !self.dominatees[o as usize].contains(&slot) {
+                return Err(format!("watch ({g}, {b}): not listed by its dominator"));
+            }
+            if x.guarded != g || x.cone.is_none() || x.cone != w.cone {
+                return Err(format!("watch ({g}, {b}): dominator not in the same cone"));
+            }
+            if w.dominator_due > soon {
+                let c = w.cone.expect("a cone");
+                let other = Self::plan(bodies, x.boxer).position_at(now);
+                let me = Self::plan(bodies, b).position_at(now);
+                let closer = self.cones.cone(c).edge().dot(me - other);
+                let gap =
+                    (me - other).length() - (self.half[b as usize] + self.half[x.boxer as usize]);
+                if closer < -eps || gap < -eps {
+                    return Err(format!(
+                        "watch ({g}, {b}) dominated by {}: closer by {closer}, apart by {gap}",
+                        x.boxer
+                    ));
+                }
+            }
+        }
+        for &d in &self.dominatees[slot as usize] {
+            if self.watches[d as usize].and_then(|x| x.dominator) != Some(slot) {
+                return Err(format!(
+                    "watch ({g}, {b}) lists a dominatee it does not dominate"
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// Pairs object `id` (just added) with the others.
@@ -570,7 +920,7 @@ impl CandidateStructure for Guards {
         self.sync(now);
         for slot in self.watches_of[id as usize].clone() {
             let w = self.watches[slot as usize].expect("a live watch");
-            self.close_watch(w.guarded, w.boxer, changes);
+            self.close_watch(bodies, w.guarded, w.boxer, changes);
         }
         for o in self.links[id as usize].clone() {
             self.link(id, o, -1, changes);
@@ -591,19 +941,25 @@ impl CandidateStructure for Guards {
         self.sync(now);
         self.lists.set_keys(self.items(bodies, id));
         // Its watches start afresh from the new plan (a teleport moves the ends at once).
-        for slot in self.watches_of[id as usize].clone() {
+        let slots = self.watches_of[id as usize].clone();
+        for &slot in &slots {
             let old = self.watches[slot as usize].expect("a live watch");
-            let w = self.make_watch(bodies, old.guarded, old.boxer, now);
+            let fresh = self.make_watch(bodies, old.guarded, old.boxer, now);
+            let w = Watch {
+                ends: fresh.ends,
+                ..old
+            };
             self.put_watch(slot, Some(w));
             self.schedule(slot);
-            self.set_pair(w.guarded, w.boxer, w.holds(), changes);
         }
+        self.recone(bodies, &slots, changes);
     }
 
     fn next_event_time(&self) -> Real {
         self.lists
             .next_event_time()
             .min(self.watch_queue.next_time())
+            .min(self.cone_queue.next_time())
     }
 
     fn process_next_event(
@@ -611,6 +967,17 @@ impl CandidateStructure for Guards {
         bodies: &Bodies,
         changes: &mut Vec<PairChange>,
     ) -> &'static str {
+        let cone_time = self.cone_queue.next_time();
+        if cone_time < self.lists.next_event_time() && cone_time < self.watch_queue.next_time() {
+            let (slot, time) = self.cone_queue.peek().expect("a due cone event");
+            self.now = self.now.max(time);
+            let centre = {
+                let w = self.watches[slot as usize].expect("a live watch");
+                w.cone_due <= w.dominator_due
+            };
+            self.on_cone(slot, bodies, changes);
+            return if centre { "centre" } else { "dominance" };
+        }
         if self.watch_queue.next_time() < self.lists.next_event_time() {
             let (slot, time) = self.watch_queue.peek().expect("a due watch");
             self.now = self.now.max(time);
@@ -631,7 +998,7 @@ impl CandidateStructure for Guards {
             if self.cube_overlap(guarded, boxer) {
                 self.open_watch(bodies, guarded, boxer, changes);
             } else {
-                self.close_watch(guarded, boxer, changes);
+                self.close_watch(bodies, guarded, boxer, changes);
             }
         }
         "swap"
@@ -650,6 +1017,25 @@ impl CandidateStructure for Guards {
             ("guarded_pairs", self.pairs.len() as f64),
             ("unguarded_objects", self.wild_count as f64),
             ("box_events", self.box_events as f64),
+            ("cones_per_guard", self.cones.len() as f64),
+            (
+                "coned_watches",
+                self.watches
+                    .iter()
+                    .flatten()
+                    .filter(|w| w.cone.is_some())
+                    .count() as f64,
+            ),
+            (
+                "dominated_watches",
+                self.watches
+                    .iter()
+                    .flatten()
+                    .filter(|w| w.dominator.is_some())
+                    .count() as f64,
+            ),
+            ("centre_events", self.centre_events as f64),
+            ("dominance_events", self.dominance_events as f64),
         ]
     }
 
@@ -687,9 +1073,10 @@ impl CandidateStructure for Guards {
             if self.watch_queue.time_of(slot).unwrap_or(Real::INFINITY) != due {
                 return Err(format!("watch ({g}, {b}) not scheduled at {due}"));
             }
-            if w.holds() {
+            if w.wanted() {
                 holding.insert((g, b));
             }
+            self.validate_cone(bodies, slot, &w, now)?;
             if due <= now + 1e-9 * now.abs().max(1.0) {
                 // A plane crossing due now (or within rounding of now), not processed yet.
                 continue;
@@ -714,9 +1101,21 @@ impl CandidateStructure for Guards {
                 }
             }
         }
+        let coned: usize = self.by_cone.values().map(Vec::len).sum();
+        let want_coned = self
+            .watches
+            .iter()
+            .flatten()
+            .filter(|w| w.cone.is_some())
+            .count();
+        if coned != want_coned {
+            return Err(format!(
+                "cones list {coned} watches, {want_coned} watches are in a cone"
+            ));
+        }
         if holding != self.pairs {
             return Err(format!(
-                "guarded pairs: {} kept, {} watches hold a guard",
+                "guarded pairs: {} kept, {} watches hold a guard undominated",
                 self.pairs.len(),
                 holding.len()
             ));

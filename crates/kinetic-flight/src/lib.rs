@@ -40,11 +40,13 @@
 
 mod axes;
 mod choose;
+mod cones;
 mod guards;
 mod shape;
 mod sweep;
 
 pub use choose::{Choice, RHO_MAX, SIGMA_MAX, choose, guard_fatness, scale_factor};
+pub use cones::{Cone, ConeSet};
 pub use guards::{GuardGrid, Guards};
 pub use shape::{ConvexShape, ShapeError, fatness};
 pub use sweep::Sweep;
