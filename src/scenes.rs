@@ -151,6 +151,16 @@ impl BallScene {
     }
 }
 
+/// A random direction (zero, rarely).
+fn random_unit(rng: &mut ChaCha8Rng) -> DVec3 {
+    DVec3::new(
+        rng.random_range(-1.0..1.0),
+        rng.random_range(-1.0..1.0),
+        rng.random_range(-1.0..1.0),
+    )
+    .normalize_or_zero()
+}
+
 /// Which shapes a free-flight scene holds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ShapeMix {
@@ -263,14 +273,6 @@ impl FlightScene {
             shapes.push(shape);
         }
         let side = (volume / self.fill).cbrt();
-        let unit = |rng: &mut ChaCha8Rng| {
-            DVec3::new(
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-            )
-            .normalize_or_zero()
-        };
         let objects = shapes
             .into_iter()
             .map(|shape| {
@@ -279,10 +281,12 @@ impl FlightScene {
                     rng.random_range(0.0..side),
                     rng.random_range(0.0..side),
                 );
-                let velocity = unit(&mut rng) * self.speed * rng.random_range(0.0..1.0f64).sqrt();
-                let acceleration = unit(&mut rng) * self.acceleration;
-                let angular_velocity = unit(&mut rng) * self.spin * rng.random_range(0.0..1.0);
-                let axis = unit(&mut rng);
+                let velocity =
+                    random_unit(&mut rng) * self.speed * rng.random_range(0.0..1.0f64).sqrt();
+                let acceleration = random_unit(&mut rng) * self.acceleration;
+                let angular_velocity =
+                    random_unit(&mut rng) * self.spin * rng.random_range(0.0..1.0);
+                let axis = random_unit(&mut rng);
                 let orientation = if axis == DVec3::ZERO {
                     glam::DQuat::IDENTITY
                 } else {
@@ -397,14 +401,6 @@ impl NestScene {
         })
         .collect();
         let mut objects = Vec::new();
-        let unit = |rng: &mut ChaCha8Rng| {
-            DVec3::new(
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-            )
-            .normalize_or_zero()
-        };
         let ball = |radius: f64, position: DVec3, velocity: DVec3| SceneObject {
             shape: ShapeSpec::Ball { radius },
             position,
@@ -420,7 +416,7 @@ impl NestScene {
                 (c / (per_side * per_side)) as f64,
             );
             let centre = cell * spacing;
-            let drift = unit(&mut rng) * 0.1;
+            let drift = random_unit(&mut rng) * 0.1;
             for dir in &chains {
                 let mut r = self.r_first;
                 for _ in 0..levels {
@@ -437,7 +433,7 @@ impl NestScene {
                     rng.random_range(-1.0..1.0),
                     rng.random_range(-1.0..1.0),
                 ) * reach;
-                let velocity = drift + unit(&mut rng) * self.jiggle;
+                let velocity = drift + random_unit(&mut rng) * self.jiggle;
                 objects.push(ball(self.r_min, centre + offset, velocity));
             }
         }

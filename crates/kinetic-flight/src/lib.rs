@@ -13,9 +13,9 @@
 //!   for objects of similar sizes.
 //! - [`Guards`] (Section 3.2): a grid of guards around every object (Lemma 7), kept as grid
 //!   planes in three kinetic sorted lists beside the boxes; an object is a candidate of each
-//!   larger object whose box holds one of its guards. Candidates stay proportional to n when
-//!   sizes differ by orders of magnitude, where the sweep's grow quadratically. The cones of
-//!   Lemma 9 are not built yet (see [`Guards`]).
+//!   larger object whose box holds one of its guards, unless a closer object in the same cone
+//!   ([`ConeSet`], Lemma 9) proves the guard is not inside it. Candidates stay proportional to
+//!   n however sizes differ, where the sweep's grow with every nested box.
 //! - [`choose`]: the sweep when inner radii differ by at most [`SIGMA_MAX`], guards otherwise.
 //!
 //! ```
