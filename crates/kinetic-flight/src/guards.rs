@@ -532,7 +532,7 @@ impl Guards {
             let i = list.iter().position(|&s| s == slot).expect("a dominatee");
             list.swap_remove(i);
         }
-        self.put_watch(slot, Some(w));
+        // The search reads only the watch's cone and boxer, which stay as stored.
         let (dominator, until) = self.find_dominator(bodies, slot);
         w.dominator = dominator;
         w.dominator_due = until;
@@ -576,15 +576,23 @@ impl Guards {
         }
     }
 
-    /// A cone event of watch `slot`: its centre crossed a facet, or its dominance ended.
-    fn on_cone(&mut self, slot: u32, bodies: &Bodies, changes: &mut Vec<PairChange>) {
+    /// A cone event of watch `slot`: its centre crossed a facet ("centre"), or its dominance
+    /// ended ("dominance"). Returns the kind.
+    fn on_cone(
+        &mut self,
+        slot: u32,
+        bodies: &Bodies,
+        changes: &mut Vec<PairChange>,
+    ) -> &'static str {
         let w = self.watches[slot as usize].expect("a live watch");
         if w.cone_due <= w.dominator_due {
             self.centre_events += 1;
             self.recone(bodies, &[slot], changes);
+            "centre"
         } else {
             self.dominance_events += 1;
             self.redominate(bodies, slot, changes);
+            "dominance"
         }
     }
 
@@ -988,12 +996,7 @@ impl CandidateStructure for Guards {
         if cone_time < self.lists.next_event_time() && cone_time < self.watch_queue.next_time() {
             let (slot, time) = self.cone_queue.peek().expect("a due cone event");
             self.now = self.now.max(time);
-            let centre = {
-                let w = self.watches[slot as usize].expect("a live watch");
-                w.cone_due <= w.dominator_due
-            };
-            self.on_cone(slot, bodies, changes);
-            return if centre { "centre" } else { "dominance" };
+            return self.on_cone(slot, bodies, changes);
         }
         if self.watch_queue.next_time() < self.lists.next_event_time() {
             let (slot, time) = self.watch_queue.peek().expect("a due watch");
