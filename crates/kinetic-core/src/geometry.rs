@@ -45,6 +45,16 @@ pub trait ConvexGeometry: std::fmt::Debug + Send + Sync {
     /// when they are apart, zero when they touch, and minus a lower bound on the penetration
     /// depth (at most the true depth) when they overlap.
     fn signed_distance(&self, pose: &Pose, other: &Shape, other_pose: &Pose) -> Real;
+    /// The shape's axis-aligned box at `orientation`, as offsets `(min, max)` from the frame's
+    /// origin, when the geometry can give one tighter than its outer ball's (none by
+    /// default). A structure may use it for an object that does not spin.
+    fn local_aabb(
+        &self,
+        orientation: crate::math::Quat,
+    ) -> Option<(crate::math::Vec3, crate::math::Vec3)> {
+        let _ = orientation;
+        None
+    }
     /// The concrete type, for implementations that dispatch on the other shape.
     fn as_any(&self) -> &dyn Any;
 }

@@ -177,6 +177,13 @@ impl ConvexGeometry for ConvexShape {
         self.inner
     }
 
+    fn local_aabb(&self, orientation: glam::DQuat) -> Option<(Vec3, Vec3)> {
+        let aabb = self
+            .parry()
+            .compute_aabb(&ParryPose::from_parts(Vec3::ZERO, orientation));
+        Some((aabb.mins, aabb.maxs))
+    }
+
     fn signed_distance(&self, pose: &Pose, other: &Shape, other_pose: &Pose) -> Real {
         let ball;
         let g2: &dyn ParryShape = match other {

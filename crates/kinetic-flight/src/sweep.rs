@@ -7,23 +7,26 @@
 //! upper end of another object is the only way that can change, so the set is kept exactly by
 //! the swaps, and the audit reads it from the same three orders.
 //!
-//! Boxes are those of B+ (centre +/- outer radius), inflated by a relative 1e-9 so that two
+//! Boxes are those of B+ (centre +/- outer radius), whose faces stay polynomials however the
+//! object spins; an object that does not spin keeps its own axis-aligned box, which is
+//! tighter (a ground slab, a wall). Every box is inflated by a relative 1e-9 so that two
 //! objects that touch have boxes that overlap strictly: the pair is a candidate before its
 //! contact begins, even at a tie.
 
 use crate::axes::{AxisItems, AxisLists};
-use kinetic_core::{Bodies, CandidateStructure, PairChange, Real, ScalarKey};
+use kinetic_core::{Bodies, CandidateStructure, PairChange, Real, ScalarKey, Shape, Vec3};
 use rustc_hash::FxHashSet;
 
-/// Relative inflation of the boxes.
-const INFLATE: Real = 1.0 + 1e-9;
+/// Inflation of the boxes, relative to the outer radius.
+const INFLATE: Real = 1e-9;
 
 /// The sweep over boxes: candidate pairs are the objects whose outer balls' boxes overlap.
 #[derive(Debug, Default)]
 pub struct Sweep {
     lists: AxisLists,
-    /// Half side of each object's box (0 for ids not in the structure).
-    half: Vec<Real>,
+    /// Each object's box, as offsets (min, max) from its centre (`None` for ids not in the
+    /// structure).
+    ends: Vec<Option<Ends>>,
     /// The objects whose boxes overlap each object's box.
     partners: Vec<Vec<u32>>,
     pairs: usize,
@@ -37,18 +40,31 @@ fn upper(id: u32) -> u32 {
     2 * id + 1
 }
 
-/// Half the side of object `id`'s box: its outer radius, inflated.
-fn half_side(bodies: &Bodies, id: u32) -> Real {
+/// A box as offsets (min, max) from the object's centre.
+type Ends = (Vec3, Vec3);
+
+/// Object `id`'s box about its centre: its own axis-aligned box when it does not spin and its
+/// geometry gives one, the box of its outer ball otherwise; inflated.
+fn box_ends(bodies: &Bodies, id: u32) -> Ends {
     let body = bodies[id as usize].as_ref().expect("a live object");
-    body.shape.outer_radius() * INFLATE
+    let r = body.shape.outer_radius();
+    let own = match &body.shape {
+        Shape::Convex(g) if body.plan.angular_velocity == Vec3::ZERO => {
+            g.local_aabb(body.plan.orientation)
+        }
+        _ => None,
+    };
+    let (lo, hi) = own.unwrap_or((Vec3::splat(-r), Vec3::splat(r)));
+    let pad = Vec3::splat(r * INFLATE);
+    (lo - pad, hi + pad)
 }
 
-/// The two ends of object `id`'s box of half side `half`.
-fn items(bodies: &Bodies, id: u32, half: Real) -> AxisItems {
+/// The two ends of object `id`'s box.
+fn items(bodies: &Bodies, id: u32, (lo, hi): Ends) -> AxisItems {
     let plan = &bodies[id as usize].as_ref().expect("a live object").plan;
     vec![
-        std::array::from_fn(|axis| (lower(id), ScalarKey::from_plan(plan, axis, -half))),
-        std::array::from_fn(|axis| (upper(id), ScalarKey::from_plan(plan, axis, half))),
+        std::array::from_fn(|axis| (lower(id), ScalarKey::from_plan(plan, axis, lo[axis]))),
+        std::array::from_fn(|axis| (upper(id), ScalarKey::from_plan(plan, axis, hi[axis]))),
     ]
 }
 
@@ -69,7 +85,7 @@ impl Sweep {
     }
 
     fn present(&self, id: u32) -> bool {
-        self.half.get(id as usize).is_some_and(|&h| h > 0.0)
+        self.ends.get(id as usize).is_some_and(Option::is_some)
     }
 
     /// Whether the boxes of `a` and `b` overlap on `axis`, read from that list's order.
@@ -97,8 +113,8 @@ impl Sweep {
 
     fn grow(&mut self, id: u32) {
         let need = id as usize + 1;
-        if self.half.len() < need {
-            self.half.resize(need, 0.0);
+        if self.ends.len() < need {
+            self.ends.resize(need, None);
             self.partners.resize(need, Vec::new());
         }
     }
@@ -107,7 +123,7 @@ impl Sweep {
     fn overlapping_pairs(&self) -> Vec<(u32, u32)> {
         let mut out = Vec::new();
         let mut active: Vec<u32> = Vec::new();
-        let mut slot: Vec<u32> = vec![u32::MAX; self.half.len()];
+        let mut slot: Vec<u32> = vec![u32::MAX; self.ends.len()];
         for &item in self.lists.list(0).order() {
             let id = item / 2;
             if item % 2 == 0 {
@@ -138,9 +154,9 @@ impl CandidateStructure for Sweep {
     fn insert(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>) {
         self.lists.sync(now);
         self.grow(id);
-        let half = half_side(bodies, id);
-        self.half[id as usize] = half;
-        self.lists.insert(items(bodies, id, half));
+        let ends = box_ends(bodies, id);
+        self.ends[id as usize] = Some(ends);
+        self.lists.insert(items(bodies, id, ends));
         // The boxes it overlaps: those whose lower x end is before its upper x end and whose
         // upper x end is after its lower x end.
         let x = self.lists.list(0);
@@ -177,9 +193,9 @@ impl CandidateStructure for Sweep {
         let mut all = Vec::with_capacity(2 * ids.len());
         for &id in ids {
             self.grow(id);
-            let half = half_side(bodies, id);
-            self.half[id as usize] = half;
-            all.extend(items(bodies, id, half));
+            let ends = box_ends(bodies, id);
+            self.ends[id as usize] = Some(ends);
+            all.extend(items(bodies, id, ends));
         }
         self.lists = AxisLists::build(now, all);
         for (a, b) in self.overlapping_pairs() {
@@ -195,8 +211,8 @@ impl CandidateStructure for Sweep {
         for o in self.partners[id as usize].clone() {
             self.unlink(id.min(o), id.max(o), changes);
         }
-        self.lists.remove(items(bodies, id, self.half[id as usize]));
-        self.half[id as usize] = 0.0;
+        let ends = self.ends[id as usize].take().expect("present");
+        self.lists.remove(items(bodies, id, ends));
     }
 
     fn replan(&mut self, id: u32, bodies: &Bodies, now: Real, _: &mut Vec<PairChange>) {
@@ -204,8 +220,10 @@ impl CandidateStructure for Sweep {
             return;
         }
         self.lists.sync(now);
-        self.lists
-            .set_keys(items(bodies, id, self.half[id as usize]));
+        // A new plan may start or stop a spin, which changes the box.
+        let ends = box_ends(bodies, id);
+        self.ends[id as usize] = Some(ends);
+        self.lists.set_keys(items(bodies, id, ends));
     }
 
     fn next_event_time(&self) -> Real {
@@ -250,7 +268,7 @@ impl CandidateStructure for Sweep {
             bodies,
             now,
             |id| self.present(id),
-            |id| items(bodies, id, half_side(bodies, id)),
+            |id| items(bodies, id, box_ends(bodies, id)),
         )?;
         let want: FxHashSet<(u32, u32)> = self.overlapping_pairs().into_iter().collect();
         let mut have = FxHashSet::default();

@@ -1,0 +1,808 @@
+//! # kinetic-rapier
+//!
+//! A kinetic broad phase for rapier3d 0.27, built on the free-flight structures of
+//! `kinetic-flight`. Swap it in with one line:
+//!
+//! ```
+//! use kinetic_rapier::KineticBroadPhase;
+//! use rapier3d::prelude::*;
+//!
+//! let (mut bodies, mut colliders) = (RigidBodySet::new(), ColliderSet::new());
+//! colliders.insert(ColliderBuilder::cuboid(10.0, 0.1, 10.0).build());
+//! let ball = bodies.insert(RigidBodyBuilder::dynamic().translation(vector![0.0, 1.0, 0.0]));
+//! colliders.insert_with_parent(ColliderBuilder::ball(0.5).build(), ball, &mut bodies);
+//!
+//! let mut broad_phase = KineticBroadPhase::default(); // instead of DefaultBroadPhase::new()
+//! let (mut pipeline, params) = (PhysicsPipeline::new(), IntegrationParameters::default());
+//! let (mut islands, mut narrow_phase) = (IslandManager::new(), NarrowPhase::new());
+//! let (mut joints, mut multibody_joints) = (ImpulseJointSet::new(), MultibodyJointSet::new());
+//! let mut ccd = CCDSolver::new();
+//! for _ in 0..120 {
+//!     pipeline.step(&vector![0.0, -9.81, 0.0], &params, &mut islands, &mut broad_phase,
+//!         &mut narrow_phase, &mut bodies, &mut colliders, &mut joints, &mut multibody_joints,
+//!         &mut ccd, &(), &());
+//! }
+//! // The ball rests on the ground.
+//! assert!((bodies[ball].translation().y - 0.6).abs() < 0.05);
+//! assert_eq!(broad_phase.stats().pairs, 1);
+//! ```
+//!
+//! ## What it does
+//!
+//! Each collider is a proxy in a kinetic structure ([`proxy`](crate) module): a ball about its
+//! body's centre of mass when the body moves, its own box when the body is fixed. Every
+//! moving body has a flight plan fitted to rapier's integrator (position, velocity, and the
+//! acceleration it has shown two steps running: gravity and any other constant force). A body
+//! that stays within the slack of its plan keeps it; only bodies that left it are re-planned.
+//! Fixed and sleeping bodies have rest plans and cost nothing per step.
+//!
+//! rapier 0.27 calls the broad phase once at the start of each step (the user's changes,
+//! positions unchanged) and once after each position update. After a position update the
+//! structure is advanced one step ahead, through its own events in time order, so a pair is
+//! handed to rapier (`AddPair`) in the step during which the two proxies meet at any moment: a
+//! fast body cannot skip a pair between steps. A pair is deleted only once it has been out of
+//! the structure for a whole window, so never while the colliders touch or are within the
+//! prediction distance. The lower collider index comes first; a removed collider's pairs go
+//! without events (the narrow phase drops them itself). Same-body pairs and collision groups
+//! are filtered by rapier's narrow phase, as with the default broad phase.
+//!
+//! The sweep (Section 3.1) is chosen when the proxies' sizes differ by at most
+//! [`kinetic_flight::SIGMA_MAX`] or a fixed collider is not fat (a ground slab): it hands
+//! rapier exactly the pairs whose boxes meet. Guards (Section 3.2) are chosen otherwise: they
+//! hand over fewer pairs, still every pair whose balls meet.
+#![warn(missing_docs)]
+#![forbid(unsafe_code)]
+
+mod pairs;
+mod proxy;
+
+use kinetic_core::{Body, CandidateStructure, FlightPlan, PairChange, Real, Shape, Vec3};
+use kinetic_flight::{Choice, ConvexShape, Guards, RHO_MAX, SIGMA_MAX, Sweep};
+use pairs::{PairBook, PairOut};
+use proxy::{Hold, centre_of_mass, dvec, fit};
+use rapier3d::prelude::*;
+use rustc_hash::FxHashMap;
+
+/// A candidate structure the broad phase can hold across threads.
+type Structure = Box<dyn CandidateStructure + Send + Sync>;
+
+/// Figures over the whole run.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BroadPhaseStats {
+    /// Physics steps seen.
+    pub steps: u64,
+    /// Pairs rapier has now.
+    pub pairs: usize,
+    /// Pairs the kinetic structure holds now (rapier also keeps, for up to a step, pairs
+    /// that have just dropped out).
+    pub candidates: usize,
+    /// Events of the kinetic structure processed.
+    pub events: u64,
+    /// Bodies re-planned because they left their plan's slack (or came to rest).
+    pub replans: u64,
+    /// Colliders put into the structure (new ones, changed ones, and proxies grown or shrunk
+    /// around a change between steps).
+    pub inserts: u64,
+    /// `AddPair` events sent.
+    pub added: u64,
+    /// `DeletePair` events sent.
+    pub deleted: u64,
+}
+
+/// Figures over the last physics step.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StepStats {
+    /// Events of the kinetic structure processed.
+    pub events: u64,
+    /// Bodies re-planned.
+    pub replans: u64,
+    /// Colliders put into the structure.
+    pub inserts: u64,
+    /// `AddPair` events sent.
+    pub added: u64,
+    /// `DeletePair` events sent.
+    pub deleted: u64,
+}
+
+/// A collider as the broad phase holds it.
+#[derive(Clone, Copy, Debug)]
+struct Proxy {
+    handle: ColliderHandle,
+    hold: Hold,
+    /// Grown to cover the time between its change and the structure's clock, until the
+    /// positions reach this time.
+    grown_until: Option<Real>,
+}
+
+/// A moving body's plan and what the broad phase has seen of it.
+#[derive(Clone, Debug)]
+struct Motion {
+    plan: FlightPlan,
+    /// The least slack of its colliders.
+    slack: Real,
+    colliders: Vec<u32>,
+    /// Its velocity at the last position update that moved it, and which update that was.
+    last_v: Vec3,
+    seen: u64,
+    /// The acceleration it showed over the last update (if seen on the one before).
+    last_a: Option<Vec3>,
+    /// The acceleration it showed over two updates running: what its plan assumes.
+    steady_a: Vec3,
+    /// Whether it is in `KineticBroadPhase::moving`.
+    listed: bool,
+}
+
+/// The broad phase's clock: the time of the colliders' positions and of the structure.
+#[derive(Clone, Copy, Debug, Default)]
+struct Clock {
+    /// The positions' time: the sum of the steps integrated so far.
+    pos: Real,
+    /// The structure's time: the end of the window it has looked ahead to.
+    kds: Real,
+    /// The length of the current step, and how much of it is still to be integrated.
+    dt: Real,
+    left: Real,
+    /// Whether the next call is the start of a step (the user's changes).
+    in_step: bool,
+    /// Position updates seen.
+    updates: u64,
+}
+
+/// The kinetic broad phase: implements rapier3d 0.27's [`BroadPhase`].
+pub struct KineticBroadPhase {
+    choice: Option<Choice>,
+    slack_fraction: Real,
+    min_slack: Real,
+    structure: Option<Structure>,
+    bodies: Vec<Option<Body>>,
+    proxies: Vec<Option<Proxy>>,
+    motions: FxHashMap<RigidBodyHandle, Motion>,
+    /// Bodies whose plans are not at rest, in the order they started moving.
+    moving: Vec<RigidBodyHandle>,
+    book: PairBook,
+    clock: Clock,
+    changes: Vec<PairChange>,
+    out: Vec<PairOut>,
+    stats: BroadPhaseStats,
+    step: StepStats,
+    audit: bool,
+    audit_error: Option<String>,
+}
+
+impl Default for KineticBroadPhase {
+    fn default() -> Self {
+        KineticBroadPhase::new()
+    }
+}
+
+impl std::fmt::Debug for KineticBroadPhase {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("KineticBroadPhase")
+            .field("structure", &self.structure_name())
+            .field("stats", &self.stats)
+            .finish_non_exhaustive()
+    }
+}
+
+impl KineticBroadPhase {
+    /// A broad phase that picks its structure from the first colliders it is given.
+    pub fn new() -> KineticBroadPhase {
+        KineticBroadPhase {
+            choice: None,
+            slack_fraction: 0.05,
+            min_slack: 1e-3,
+            structure: None,
+            bodies: Vec::new(),
+            proxies: Vec::new(),
+            motions: FxHashMap::default(),
+            moving: Vec::new(),
+            book: PairBook::default(),
+            clock: Clock {
+                in_step: false,
+                ..Clock::default()
+            },
+            changes: Vec::new(),
+            out: Vec::new(),
+            stats: BroadPhaseStats::default(),
+            step: StepStats::default(),
+            audit: false,
+            audit_error: None,
+        }
+    }
+
+    /// The same broad phase with the structure chosen by the caller.
+    pub fn with_structure(mut self, choice: Choice) -> KineticBroadPhase {
+        self.choice = Some(choice);
+        self
+    }
+
+    /// The same broad phase with another slack: a moving body may stray `fraction` of its
+    /// size (at least `min` length units) from its plan before it is re-planned. More slack,
+    /// fewer re-plans and more pairs. Default 0.05 and 0.001.
+    pub fn with_slack(mut self, fraction: f32, min: f32) -> KineticBroadPhase {
+        self.slack_fraction = fraction.max(0.0) as Real;
+        self.min_slack = min.max(1e-9) as Real;
+        self
+    }
+
+    /// The same broad phase, auditing itself after every event of its structure (slow; for
+    /// tests). The first failure is kept: see [`KineticBroadPhase::audit_error`].
+    pub fn with_audit(mut self) -> KineticBroadPhase {
+        self.audit = true;
+        self
+    }
+
+    /// The first failure of the audit, if any.
+    pub fn audit_error(&self) -> Option<&str> {
+        self.audit_error.as_deref()
+    }
+
+    /// The structure in use: `"sweep"`, `"guards"`, or `"none"` before the first collider.
+    pub fn structure_name(&self) -> &'static str {
+        self.structure.as_ref().map_or("none", |s| s.name())
+    }
+
+    /// Figures over the whole run.
+    pub fn stats(&self) -> BroadPhaseStats {
+        BroadPhaseStats {
+            pairs: self.book.reported(),
+            candidates: self.book.candidates(),
+            ..self.stats
+        }
+    }
+
+    /// Figures over the last physics step.
+    pub fn last_step(&self) -> StepStats {
+        self.step
+    }
+
+    /// The structure's own figures (e.g. the sweep's box pairs, the guards' watches).
+    pub fn structure_counters(&self) -> Vec<(&'static str, f64)> {
+        self.structure.as_ref().map_or(Vec::new(), |s| s.counters())
+    }
+
+    /// Whether rapier has the pair of these two colliders by this broad phase.
+    pub fn has_pair(&self, a: ColliderHandle, b: ColliderHandle) -> bool {
+        let (ia, ib) = (a.into_raw_parts().0, b.into_raw_parts().0);
+        self.known(a) && self.known(b) && self.book.has(ia, ib)
+    }
+
+    /// Recomputes the invariants from scratch: the structure's own, the pair book's, every
+    /// enabled collider held, every moving body within its slack of its plan.
+    pub fn validate(&self, colliders: &ColliderSet, bodies: &RigidBodySet) -> Result<(), String> {
+        if let Some(s) = &self.structure {
+            s.validate(&self.bodies, self.clock.kds)?;
+        }
+        self.book.audit()?;
+        for (h, co) in colliders.iter() {
+            if co.is_enabled() && !self.known(h) {
+                return Err(format!("collider {h:?} is not held"));
+            }
+        }
+        for (h, m) in &self.motions {
+            let Some(rb) = bodies.get(*h) else { continue };
+            let off = (centre_of_mass(rb) - m.plan.position_at(self.clock.pos)).length();
+            if off > m.slack * (1.0 + 1e-6) {
+                return Err(format!(
+                    "body {h:?} is {off} from its plan, slack {}",
+                    m.slack
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn known(&self, h: ColliderHandle) -> bool {
+        let i = h.into_raw_parts().0 as usize;
+        self.proxies
+            .get(i)
+            .and_then(|p| p.as_ref())
+            .is_some_and(|p| p.handle == h)
+    }
+
+    /// The structure's shape for a hold.
+    fn shape(&self, hold: &Hold, choice: Choice) -> Shape {
+        match *hold {
+            Hold::Moving { radius, .. } => Shape::Ball { radius },
+            Hold::Fixed { min, max } => {
+                let half = (max - min) / 2.0;
+                match (choice, ConvexShape::cuboid(half)) {
+                    (Choice::Sweep, Ok(cuboid)) => cuboid.into_shape(),
+                    _ => Shape::Ball {
+                        radius: half.length().max(1e-9),
+                    },
+                }
+            }
+        }
+    }
+
+    /// The structure's plan for a collider held by `hold`.
+    fn plan_of(&self, hold: &Hold) -> FlightPlan {
+        match *hold {
+            Hold::Fixed { min, max } => FlightPlan::at_rest((min + max) / 2.0),
+            Hold::Moving { body, .. } => self.motions[&body].plan,
+        }
+    }
+
+    /// Picks the structure for the first colliders: the sweep if their sizes are within
+    /// `SIGMA_MAX` of each other or a fixed one is not fat, guards otherwise.
+    fn choose(&self, holds: &[Hold]) -> Choice {
+        if let Some(c) = self.choice {
+            return c;
+        }
+        let mut lo = Real::INFINITY;
+        let mut hi: Real = 0.0;
+        for h in holds {
+            let r = match *h {
+                Hold::Moving { radius, .. } => radius,
+                Hold::Fixed { min, max } => {
+                    let half = (max - min) / 2.0;
+                    if half.length() > RHO_MAX * half.min_element() {
+                        return Choice::Sweep;
+                    }
+                    half.min_element()
+                }
+            };
+            lo = lo.min(r);
+            hi = hi.max(r);
+        }
+        if hi <= SIGMA_MAX * lo || holds.len() < 2 {
+            Choice::Sweep
+        } else {
+            Choice::Guards
+        }
+    }
+
+    /// Drops collider `h` and its pairs without events (it was removed or disabled: rapier's
+    /// narrow phase drops its pairs itself).
+    fn remove_collider(&mut self, h: ColliderHandle) {
+        if self.known(h) {
+            self.detach(h.into_raw_parts().0, true);
+        }
+    }
+
+    /// Takes held collider `i` out of the structure and forgets its proxy. Its pairs go
+    /// silently, or (`silent` false) drop out as usual to be deleted once out for a window.
+    fn detach(&mut self, i: u32, silent: bool) {
+        self.take_out(i);
+        let mut changes = std::mem::take(&mut self.changes);
+        if silent {
+            self.book.forget(i, &mut changes);
+        } else {
+            self.book.apply(&mut changes, self.clock.kds);
+        }
+        self.changes = changes;
+        let proxy = self.proxies[i as usize].take().expect("held");
+        if let Hold::Moving { body, .. } = proxy.hold
+            && let Some(m) = self.motions.get_mut(&body)
+        {
+            m.colliders.retain(|&c| c != i);
+            if m.colliders.is_empty() {
+                self.motions.remove(&body);
+                self.moving.retain(|&b| b != body);
+            }
+        }
+    }
+
+    /// Takes collider `i` out of the structure, leaving its pair changes in `self.changes`.
+    fn take_out(&mut self, i: u32) {
+        if let Some(s) = self.structure.as_mut() {
+            s.remove(i, &self.bodies, self.clock.kds, &mut self.changes);
+        }
+        self.bodies[i as usize] = None;
+    }
+
+    /// Puts collider `i` with `hold` into the structure at its clock, grown by `grow` (a
+    /// change that happened `kds - pos` before the structure's clock).
+    fn put_in(&mut self, i: u32, hold: Hold, grow: Real) {
+        let choice = self.structure_choice();
+        let mut shape = self.shape(&hold, choice);
+        if grow > 0.0 {
+            shape = Shape::Ball {
+                radius: shape.outer_radius() + grow,
+            };
+        }
+        let plan = self.plan_of(&hold);
+        self.bodies[i as usize] = Some(Body { shape, plan });
+        let s = self.structure.as_mut().expect("a structure");
+        s.insert(i, &self.bodies, self.clock.kds, &mut self.changes);
+        self.stats.inserts += 1;
+        self.step.inserts += 1;
+    }
+
+    fn structure_choice(&self) -> Choice {
+        match self.structure_name() {
+            "guards" => Choice::Guards,
+            _ => Choice::Sweep,
+        }
+    }
+
+    fn grow_slots(&mut self, i: u32) {
+        let need = i as usize + 1;
+        if self.bodies.len() < need {
+            self.bodies.resize(need, None);
+            self.proxies.resize(need, None);
+        }
+    }
+
+    /// Starts a motion record for a body seen for the first time, resting where it is.
+    fn motion_for(&mut self, h: RigidBodyHandle, rb: &RigidBody, slack: Real) -> &mut Motion {
+        let t = self.clock.pos;
+        let m = self.motions.entry(h).or_insert_with(|| Motion {
+            plan: FlightPlan::at_rest(centre_of_mass(rb)).starting_at(t),
+            slack,
+            colliders: Vec::new(),
+            last_v: dvec(rb.linvel()),
+            seen: u64::MAX,
+            last_a: None,
+            steady_a: Vec3::ZERO,
+            listed: false,
+        });
+        m.slack = m.slack.min(slack);
+        m
+    }
+
+    /// Adds the colliders `new` (enabled, not held) at the positions' time.
+    fn install(
+        &mut self,
+        new: &[ColliderHandle],
+        colliders: &ColliderSet,
+        bodies: &RigidBodySet,
+        params: &IntegrationParameters,
+        update: u64,
+    ) {
+        if new.is_empty() {
+            return;
+        }
+        let holds: Vec<(ColliderHandle, Hold)> = new
+            .iter()
+            .filter_map(|&h| {
+                let co = colliders.get(h)?;
+                Some((
+                    h,
+                    Hold::of(co, bodies, params, self.slack_fraction, self.min_slack),
+                ))
+            })
+            .collect();
+        // Plans first: a body seen for the first time gets a plan fitted to its state now; a
+        // body already moving keeps its plan for the collider it gains.
+        for &(h, hold) in &holds {
+            let i = h.into_raw_parts().0;
+            self.grow_slots(i);
+            if let Hold::Moving { body, slack, .. } = hold {
+                let fresh = !self.motions.contains_key(&body);
+                let m = self.motion_for(body, &bodies[body], slack);
+                m.colliders.push(i);
+                if fresh {
+                    m.seen = update;
+                    self.refit(body, bodies, params, true);
+                }
+            }
+            self.proxies[i as usize] = Some(Proxy {
+                handle: h,
+                hold,
+                grown_until: None,
+            });
+        }
+        if self.structure.is_none() {
+            let choice = self.choose(&holds.iter().map(|x| x.1).collect::<Vec<_>>());
+            self.structure = Some(match choice {
+                Choice::Sweep => Box::new(Sweep::new()),
+                Choice::Guards => Box::new(Guards::new(1.0)),
+            });
+        }
+        let grow = self.lag_growth();
+        if grow == 0.0 {
+            // Level with the structure's clock: all at once (an empty structure builds in bulk).
+            let choice = self.structure_choice();
+            let ids: Vec<u32> = holds.iter().map(|(h, _)| h.into_raw_parts().0).collect();
+            for (h, hold) in &holds {
+                let i = h.into_raw_parts().0 as usize;
+                self.bodies[i] = Some(Body {
+                    shape: self.shape(hold, choice),
+                    plan: self.plan_of(hold),
+                });
+            }
+            let s = self.structure.as_mut().expect("a structure");
+            s.insert_many(&ids, &self.bodies, self.clock.kds, &mut self.changes);
+            self.stats.inserts += ids.len() as u64;
+            self.step.inserts += ids.len() as u64;
+            self.book.apply(&mut self.changes, self.clock.kds);
+            return;
+        }
+        for (h, hold) in holds {
+            let i = h.into_raw_parts().0;
+            let g = grow + self.own_reach(&hold);
+            self.put_in(i, hold, g);
+            self.proxies[i as usize].as_mut().expect("set").grown_until = Some(self.clock.kds);
+            self.book.apply(&mut self.changes, self.clock.kds);
+        }
+    }
+
+    /// How far any moving body can go between the positions' time and the structure's clock:
+    /// a change made at the positions' time grows its proxy by this (and its own reach) until
+    /// the positions catch up. Zero when they are level.
+    fn lag_growth(&self) -> Real {
+        let lag = self.clock.kds - self.clock.pos;
+        if lag <= 0.0 {
+            return 0.0;
+        }
+        self.moving
+            .iter()
+            .map(|b| reach_over(&self.motions[b].plan, self.clock.pos, lag))
+            .fold(0.0, Real::max)
+    }
+
+    fn own_reach(&self, hold: &Hold) -> Real {
+        let lag = self.clock.kds - self.clock.pos;
+        match *hold {
+            Hold::Moving { body, .. } if lag > 0.0 => {
+                reach_over(&self.motions[&body].plan, self.clock.pos, lag)
+            }
+            _ => 0.0,
+        }
+    }
+
+    /// Checks body `h` against its plan at the positions' time and re-fits the plan if the
+    /// body left its slack now or would by the end of the step. `force` re-fits anyway.
+    /// Returns whether the plan changed.
+    fn refit(
+        &mut self,
+        h: RigidBodyHandle,
+        bodies: &RigidBodySet,
+        params: &IntegrationParameters,
+        force: bool,
+    ) -> bool {
+        let Some(rb) = bodies.get(h) else {
+            return false;
+        };
+        let t = self.clock.pos;
+        let dt = self.clock.dt.max(params.dt as Real);
+        let m = self.motions.get_mut(&h).expect("a motion");
+        let x = centre_of_mass(rb);
+        let plan = if rb.is_sleeping() {
+            FlightPlan::at_rest(x).starting_at(t)
+        } else {
+            let substeps = params.num_solver_iterations.get() as Real;
+            fit(x, dvec(rb.linvel()), m.steady_a, t, dt, substeps)
+        };
+        let off_now = (x - m.plan.position_at(t)).length();
+        let off_end = (plan.position_at(t + dt) - m.plan.position_at(t + dt)).length();
+        if !force && off_now <= m.slack && off_end <= m.slack {
+            return false;
+        }
+        m.plan = plan;
+        let rest = plan.velocity == Vec3::ZERO && plan.acceleration == Vec3::ZERO;
+        if !rest && !m.listed {
+            m.listed = true;
+            self.moving.push(h);
+        }
+        true
+    }
+
+    /// Gives the structure body `h`'s new plan for each of its colliders.
+    fn replan(&mut self, h: RigidBodyHandle) {
+        self.stats.replans += 1;
+        self.step.replans += 1;
+        let level = self.clock.kds == self.clock.pos;
+        let grow = if level { 0.0 } else { self.lag_growth() };
+        let plan = self.motions[&h].plan;
+        for i in self.motions[&h].colliders.clone() {
+            let Some(proxy) = self.proxies[i as usize] else {
+                continue;
+            };
+            if level && proxy.grown_until.is_none() {
+                let body = self.bodies[i as usize].as_mut().expect("held");
+                body.plan = plan;
+                let s = self.structure.as_mut().expect("a structure");
+                s.replan(i, &self.bodies, self.clock.kds, &mut self.changes);
+            } else {
+                self.take_out(i);
+                let own = self.own_reach(&proxy.hold);
+                let g = if level { 0.0 } else { grow + own };
+                self.put_in(i, proxy.hold, g);
+                self.proxies[i as usize].as_mut().expect("held").grown_until =
+                    (g > 0.0).then_some(self.clock.kds);
+            }
+            self.book.apply(&mut self.changes, self.clock.kds);
+        }
+    }
+
+    /// Runs the structure's events up to `t`.
+    fn advance(&mut self, t: Real) {
+        let Some(s) = self.structure.as_mut() else {
+            self.clock.kds = self.clock.kds.max(t);
+            return;
+        };
+        loop {
+            let next = s.next_event_time();
+            if !(next <= t) {
+                break;
+            }
+            s.process_next_event(&self.bodies, &mut self.changes);
+            self.book.apply(&mut self.changes, next);
+            self.stats.events += 1;
+            self.step.events += 1;
+            if self.audit && self.audit_error.is_none() {
+                let r = s
+                    .validate(&self.bodies, next)
+                    .and_then(|_| self.book.audit());
+                if let Err(e) = r {
+                    self.audit_error = Some(format!("after the event at {next}: {e}"));
+                }
+            }
+        }
+        self.clock.kds = self.clock.kds.max(t);
+    }
+}
+
+/// How far a body on `plan` can get from where it is at `t` within `lag`.
+fn reach_over(plan: &FlightPlan, t: Real, lag: Real) -> Real {
+    plan.velocity_at(t).length() * lag + plan.acceleration.length() * lag * lag / 2.0
+}
+
+impl BroadPhase for KineticBroadPhase {
+    fn update(
+        &mut self,
+        params: &IntegrationParameters,
+        colliders: &ColliderSet,
+        bodies: &RigidBodySet,
+        modified_colliders: &[ColliderHandle],
+        removed_colliders: &[ColliderHandle],
+        events: &mut Vec<BroadPhasePairEvent>,
+    ) {
+        // rapier 0.27: one call with the user's changes at the start of a step, then one after
+        // each position update, the updates together one step long.
+        let dt = params.dt as Real;
+        let starts_step = !self.clock.in_step;
+        if starts_step {
+            self.clock.dt = dt;
+            self.clock.left = dt;
+            self.clock.in_step = true;
+            self.stats.steps += 1;
+            self.step = StepStats::default();
+        } else {
+            self.clock.pos += dt;
+            self.clock.left -= dt;
+            self.clock.updates += 1;
+            if self.clock.left <= 1e-4 * self.clock.dt {
+                self.clock.in_step = false;
+            }
+        }
+        let update = self.clock.updates;
+
+        for &h in removed_colliders {
+            self.remove_collider(h);
+        }
+
+        let mut new = Vec::new();
+        let mut moved: Vec<RigidBodyHandle> = Vec::new();
+        for &h in modified_colliders {
+            let Some(co) = colliders.get(h) else { continue };
+            if !co.is_enabled() {
+                self.remove_collider(h);
+                continue;
+            }
+            if !self.known(h) {
+                new.push(h);
+                continue;
+            }
+            let i = h.into_raw_parts().0 as usize;
+            let held = self.proxies[i].expect("known").hold;
+            let hold = Hold::of(co, bodies, params, self.slack_fraction, self.min_slack);
+            if !held.same(&hold) {
+                // A new shape, body or body type: held afresh.
+                self.detach(i as u32, false);
+                new.push(h);
+            } else if let Hold::Moving { body, .. } = hold {
+                moved.push(body);
+            }
+        }
+
+        // Bodies that moved: what they showed of their acceleration, then their plans.
+        for &b in &moved {
+            let Some(rb) = bodies.get(b) else { continue };
+            let Some(m) = self.motions.get_mut(&b) else {
+                continue;
+            };
+            if m.seen == update && !starts_step {
+                continue;
+            }
+            if !starts_step {
+                let v = dvec(rb.linvel());
+                if m.seen.wrapping_add(1) == update {
+                    let a = (v - m.last_v) / dt;
+                    if let Some(prev) = m.last_a {
+                        let tol = 1e-3 * a.length().max(prev.length()) + 1e-3;
+                        if (a - prev).length() <= tol {
+                            m.steady_a = a;
+                        }
+                    }
+                    m.last_a = Some(a);
+                } else {
+                    m.last_a = None;
+                }
+                m.last_v = v;
+                m.seen = update;
+            }
+            if self.refit(b, bodies, params, false) {
+                self.replan(b);
+            }
+        }
+        self.install(&new, colliders, bodies, params, update);
+
+        if !starts_step {
+            // Bodies that did not move in this update went to sleep or stopped: at rest.
+            let mut k = 0;
+            while k < self.moving.len() {
+                let b = self.moving[k];
+                let seen = self.motions.get(&b).is_some_and(|m| m.seen == update);
+                if !seen && bodies.contains(b) {
+                    let t = self.clock.pos;
+                    let m = self.motions.get_mut(&b).expect("listed");
+                    let x = centre_of_mass(&bodies[b]);
+                    m.plan = FlightPlan::at_rest(x).starting_at(t);
+                    m.listed = false;
+                    m.last_a = None;
+                    self.moving.swap_remove(k);
+                    self.replan(b);
+                } else {
+                    k += 1;
+                }
+            }
+            // Proxies grown over a lag the positions have now caught up with.
+            let due: Vec<u32> = self
+                .proxies
+                .iter()
+                .enumerate()
+                .filter_map(|(i, p)| {
+                    p.as_ref()
+                        .and_then(|p| p.grown_until)
+                        .filter(|&t| t <= self.clock.pos)
+                        .map(|_| i as u32)
+                })
+                .collect();
+            for i in due {
+                let proxy = self.proxies[i as usize].expect("held");
+                self.take_out(i);
+                self.proxies[i as usize].as_mut().expect("held").grown_until = None;
+                let lag = self.clock.kds > self.clock.pos;
+                let grow = if lag {
+                    self.lag_growth() + self.own_reach(&proxy.hold)
+                } else {
+                    0.0
+                };
+                self.put_in(i, proxy.hold, grow);
+                if grow > 0.0 {
+                    self.proxies[i as usize].as_mut().expect("held").grown_until =
+                        Some(self.clock.kds);
+                }
+                self.book.apply(&mut self.changes, self.clock.kds);
+            }
+        }
+
+        // Look ahead over the coming step.
+        self.advance(self.clock.pos + self.clock.dt);
+
+        self.book.emit(self.clock.pos, &mut self.out);
+        for o in self.out.drain(..) {
+            let (a, b, add) = match o {
+                PairOut::Add(a, b) => (a, b, true),
+                PairOut::Delete(a, b) => (a, b, false),
+            };
+            let (Some(pa), Some(pb)) = (self.proxies[a as usize], self.proxies[b as usize]) else {
+                continue;
+            };
+            let pair = ColliderPair::new(pa.handle, pb.handle);
+            if add {
+                self.stats.added += 1;
+                self.step.added += 1;
+                events.push(BroadPhasePairEvent::AddPair(pair));
+            } else {
+                self.stats.deleted += 1;
+                self.step.deleted += 1;
+                events.push(BroadPhasePairEvent::DeletePair(pair));
+            }
+        }
+    }
+}
