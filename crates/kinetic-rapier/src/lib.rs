@@ -273,7 +273,7 @@ impl KineticBroadPhase {
         if let Some(s) = &self.structure {
             s.validate(&self.bodies, self.clock.kds)?;
         }
-        self.book.audit()?;
+        self.book.audit(true)?;
         for (h, co) in colliders.iter() {
             if co.is_enabled() && !self.known(h) {
                 return Err(format!("collider {h:?} is not held"));
@@ -626,7 +626,7 @@ impl KineticBroadPhase {
             if self.audit && self.audit_error.is_none() {
                 let r = s
                     .validate(&self.bodies, next)
-                    .and_then(|_| self.book.audit());
+                    .and_then(|_| self.book.audit(false));
                 if let Err(e) = r {
                     self.audit_error = Some(format!("after the event at {next}: {e}"));
                 }
