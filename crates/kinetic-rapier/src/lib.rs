@@ -55,6 +55,7 @@
 
 mod pairs;
 mod proxy;
+pub mod scenes;
 
 use kinetic_core::{Body, CandidateStructure, FlightPlan, PairChange, Real, Shape, Vec3};
 use kinetic_flight::{Choice, ConvexShape, Guards, RHO_MAX, SIGMA_MAX, Sweep};
@@ -62,6 +63,9 @@ use pairs::{PairBook, PairOut};
 use proxy::{Hold, centre_of_mass, dvec, fit};
 use rapier3d::prelude::*;
 use rustc_hash::FxHashMap;
+
+/// Steps over which a body must stay within half its slack to be planned at rest.
+const REST_STEPS: Real = 30.0;
 
 /// A candidate structure the broad phase can hold across threads.
 type Structure = Box<dyn CandidateStructure + Send + Sync>;
@@ -560,14 +564,22 @@ impl KineticBroadPhase {
         let dt = self.clock.dt.max(params.dt as Real);
         let m = self.motions.get_mut(&h).expect("a motion");
         let x = centre_of_mass(rb);
-        let plan = if rb.is_sleeping() {
+        let substeps = params.num_solver_iterations.get() as Real;
+        // Where rapier will put it by the end of the step if nothing touches it.
+        let ballistic = fit(x, dvec(rb.linvel()), m.steady_a, t, dt, substeps);
+        // A body that sleeps, or would stay within half its slack for the next
+        // REST_STEPS steps (one resting in a pile), is planned at rest: its box ends then
+        // stay put instead of swapping back and forth with its neighbours' as it jitters.
+        let horizon = REST_STEPS * dt;
+        let drift = ballistic.velocity.length() * horizon
+            + ballistic.acceleration.length() * horizon * horizon / 2.0;
+        let plan = if rb.is_sleeping() || drift <= m.slack / 2.0 {
             FlightPlan::at_rest(x).starting_at(t)
         } else {
-            let substeps = params.num_solver_iterations.get() as Real;
-            fit(x, dvec(rb.linvel()), m.steady_a, t, dt, substeps)
+            ballistic
         };
         let off_now = (x - m.plan.position_at(t)).length();
-        let off_end = (plan.position_at(t + dt) - m.plan.position_at(t + dt)).length();
+        let off_end = (ballistic.position_at(t + dt) - m.plan.position_at(t + dt)).length();
         if !force && off_now <= m.slack && off_end <= m.slack {
             return false;
         }
@@ -616,7 +628,8 @@ impl KineticBroadPhase {
         };
         loop {
             let next = s.next_event_time();
-            if !(next <= t) {
+            // A NaN time never comes due.
+            if next.is_nan() || next > t {
                 break;
             }
             s.process_next_event(&self.bodies, &mut self.changes);

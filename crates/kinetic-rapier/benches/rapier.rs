@@ -1,0 +1,133 @@
+//! rapier 0.27's step with its default broad phase and with the kinetic one, side by side in
+//! one run: whole step, broad-phase time (rapier's own counters) and pairs handed to the
+//! narrow phase.
+//!
+//! `cargo bench -p kinetic-rapier --bench rapier -- [N...] [--steps S]` (default N = 1000
+//! 10000 50000, S = 120). Prints a markdown table.
+
+use kinetic_rapier::KineticBroadPhase;
+use kinetic_rapier::scenes::{RapierScene, debris, rain};
+use rapier3d::prelude::*;
+use std::time::Instant;
+
+#[derive(Default)]
+struct Row {
+    step_ms: f64,
+    bp_ms: f64,
+    np_ms: f64,
+    pairs: f64,
+    touching: f64,
+}
+
+fn run(scene: RapierScene, bp: &mut dyn BroadPhase, steps: usize) -> Row {
+    let RapierScene {
+        mut bodies,
+        mut colliders,
+        gravity,
+    } = scene;
+    let mut pipeline = PhysicsPipeline::new();
+    pipeline.counters.enable();
+    let params = IntegrationParameters::default();
+    let (mut islands, mut narrow) = (IslandManager::new(), NarrowPhase::new());
+    let (mut joints, mut multibody) = (ImpulseJointSet::new(), MultibodyJointSet::new());
+    let mut ccd = CCDSolver::new();
+    let mut row = Row::default();
+    let start = Instant::now();
+    for _ in 0..steps {
+        pipeline.step(
+            &gravity,
+            &params,
+            &mut islands,
+            bp,
+            &mut narrow,
+            &mut bodies,
+            &mut colliders,
+            &mut joints,
+            &mut multibody,
+            &mut ccd,
+            &(),
+            &(),
+        );
+        row.bp_ms += pipeline.counters.broad_phase_time_ms();
+        row.np_ms += pipeline.counters.narrow_phase_time_ms();
+        row.pairs += narrow.contact_pairs().count() as f64;
+        row.touching += narrow
+            .contact_pairs()
+            .filter(|p| p.has_any_active_contact)
+            .count() as f64;
+    }
+    row.step_ms = start.elapsed().as_secs_f64() * 1e3;
+    let s = steps as f64;
+    Row {
+        step_ms: row.step_ms / s,
+        bp_ms: row.bp_ms / s,
+        np_ms: row.np_ms / s,
+        pairs: row.pairs / s,
+        touching: row.touching / s,
+    }
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| a != "--bench")
+        .collect();
+    let mut sizes = Vec::new();
+    let mut steps = 120;
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        if a == "--steps" {
+            steps = it.next().and_then(|s| s.parse().ok()).expect("--steps S");
+        } else if let Ok(n) = a.parse::<usize>() {
+            sizes.push(n);
+        }
+    }
+    if sizes.is_empty() {
+        sizes = vec![1000, 10000, 50000];
+    }
+    println!(
+        "{steps} steps at 60 Hz; times are means per step; pairs: the narrow phase's pairs, touching: those with an active contact\n"
+    );
+    println!(
+        "| scene | n | broad phase | step ms | broad phase ms | narrow phase ms | pairs | touching | kinetic: structure, events/step, re-plans/step |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for &n in &sizes {
+        type Make = fn(usize) -> RapierScene;
+        let scenes: [(&str, Make); 2] = [
+            ("rain", |n| rain(n, n / 500, 1)),
+            ("debris", |n| debris(n, 2)),
+        ];
+        for (name, make) in scenes {
+            let d = run(make(n), &mut DefaultBroadPhase::new(), steps);
+            let mut kbp = KineticBroadPhase::default();
+            let k = run(make(n), &mut kbp, steps);
+            let s = kbp.stats();
+            for (label, r, extra) in [
+                ("default (BVH)", &d, String::new()),
+                (
+                    "kinetic",
+                    &k,
+                    format!(
+                        "{}, {:.0}, {:.1}",
+                        kbp.structure_name(),
+                        s.events as f64 / s.steps as f64,
+                        s.replans as f64 / s.steps as f64
+                    ),
+                ),
+            ] {
+                println!(
+                    "| {name} | {n} | {label} | {:.2} | {:.3} | {:.2} | {:.0} | {:.0} | {extra} |",
+                    r.step_ms, r.bp_ms, r.np_ms, r.pairs, r.touching
+                );
+            }
+            println!(
+                "| {name} | {n} | kinetic / default | {:.2}x | {:.2}x | {:.2}x | {:.2}x | | |",
+                k.step_ms / d.step_ms,
+                k.bp_ms / d.bp_ms,
+                k.np_ms / d.np_ms,
+                k.pairs / d.pairs
+            );
+        }
+    }
+}
