@@ -163,6 +163,8 @@ pub struct KineticBroadPhase {
     motions: FxHashMap<RigidBodyHandle, Motion>,
     /// Bodies whose plans are not at rest, in the order they started moving.
     moving: Vec<RigidBodyHandle>,
+    /// Colliders whose proxies may be grown (checked when the positions move on).
+    grown: Vec<u32>,
     book: PairBook,
     clock: Clock,
     changes: Vec<PairChange>,
@@ -200,6 +202,7 @@ impl KineticBroadPhase {
             proxies: Vec::new(),
             motions: FxHashMap::default(),
             moving: Vec::new(),
+            grown: Vec::new(),
             book: PairBook::default(),
             clock: Clock {
                 in_step: false,
@@ -410,6 +413,11 @@ impl KineticBroadPhase {
         self.bodies[i as usize] = Some(Body { shape, plan });
         let s = self.structure.as_mut().expect("a structure");
         s.insert(i, &self.bodies, self.clock.kds, &mut self.changes);
+        self.proxies[i as usize].as_mut().expect("held").grown_until =
+            (grow > 0.0).then_some(self.clock.kds);
+        if grow > 0.0 {
+            self.grown.push(i);
+        }
         self.stats.inserts += 1;
         self.step.inserts += 1;
     }
@@ -518,7 +526,6 @@ impl KineticBroadPhase {
             let i = h.into_raw_parts().0;
             let g = grow + self.own_reach(&hold);
             self.put_in(i, hold, g);
-            self.proxies[i as usize].as_mut().expect("set").grown_until = Some(self.clock.kds);
             self.book.apply(&mut self.changes, self.clock.kds);
         }
     }
@@ -613,8 +620,6 @@ impl KineticBroadPhase {
                 let own = self.own_reach(&proxy.hold);
                 let g = if level { 0.0 } else { grow + own };
                 self.put_in(i, proxy.hold, g);
-                self.proxies[i as usize].as_mut().expect("held").grown_until =
-                    (g > 0.0).then_some(self.clock.kds);
             }
             self.book.apply(&mut self.changes, self.clock.kds);
         }
@@ -764,21 +769,19 @@ impl BroadPhase for KineticBroadPhase {
                 }
             }
             // Proxies grown over a lag the positions have now caught up with.
-            let due: Vec<u32> = self
-                .proxies
-                .iter()
-                .enumerate()
-                .filter_map(|(i, p)| {
-                    p.as_ref()
-                        .and_then(|p| p.grown_until)
-                        .filter(|&t| t <= self.clock.pos)
-                        .map(|_| i as u32)
-                })
-                .collect();
+            let pos = self.clock.pos;
+            let proxies = &self.proxies;
+            let mut grown = std::mem::take(&mut self.grown);
+            grown.sort_unstable();
+            grown.dedup();
+            let (due, waiting): (Vec<u32>, Vec<u32>) = grown
+                .into_iter()
+                .filter(|&i| proxies[i as usize].is_some_and(|p| p.grown_until.is_some()))
+                .partition(|&i| proxies[i as usize].is_some_and(|p| p.grown_until <= Some(pos)));
+            self.grown = waiting;
             for i in due {
                 let proxy = self.proxies[i as usize].expect("held");
                 self.take_out(i);
-                self.proxies[i as usize].as_mut().expect("held").grown_until = None;
                 let lag = self.clock.kds > self.clock.pos;
                 let grow = if lag {
                     self.lag_growth() + self.own_reach(&proxy.hold)
@@ -786,10 +789,6 @@ impl BroadPhase for KineticBroadPhase {
                     0.0
                 };
                 self.put_in(i, proxy.hold, grow);
-                if grow > 0.0 {
-                    self.proxies[i as usize].as_mut().expect("held").grown_until =
-                        Some(self.clock.kds);
-                }
                 self.book.apply(&mut self.changes, self.clock.kds);
             }
         }
