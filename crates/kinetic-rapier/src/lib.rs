@@ -165,6 +165,8 @@ pub struct KineticBroadPhase {
     moving: Vec<RigidBodyHandle>,
     /// Colliders whose proxies may be grown (checked when the positions move on).
     grown: Vec<u32>,
+    /// This call's [`KineticBroadPhase::lag_growth`], once worked out.
+    lag_reach: Option<Real>,
     book: PairBook,
     clock: Clock,
     changes: Vec<PairChange>,
@@ -203,11 +205,9 @@ impl KineticBroadPhase {
             motions: FxHashMap::default(),
             moving: Vec::new(),
             grown: Vec::new(),
+            lag_reach: None,
             book: PairBook::default(),
-            clock: Clock {
-                in_step: false,
-                ..Clock::default()
-            },
+            clock: Clock::default(),
             changes: Vec::new(),
             out: Vec::new(),
             stats: BroadPhaseStats::default(),
@@ -422,11 +422,9 @@ impl KineticBroadPhase {
         self.step.inserts += 1;
     }
 
+    /// The structure in use (the sweep before there is one).
     fn structure_choice(&self) -> Choice {
-        match self.structure_name() {
-            "guards" => Choice::Guards,
-            _ => Choice::Sweep,
-        }
+        self.choice.unwrap_or(Choice::Sweep)
     }
 
     fn grow_slots(&mut self, i: u32) {
@@ -498,6 +496,7 @@ impl KineticBroadPhase {
         }
         if self.structure.is_none() {
             let choice = self.choose(&holds.iter().map(|x| x.1).collect::<Vec<_>>());
+            self.choice = Some(choice);
             self.structure = Some(match choice {
                 Choice::Sweep => Box::new(Sweep::new()),
                 Choice::Guards => Box::new(Guards::new(1.0)),
@@ -532,16 +531,24 @@ impl KineticBroadPhase {
 
     /// How far any moving body can go between the positions' time and the structure's clock:
     /// a change made at the positions' time grows its proxy by this (and its own reach) until
-    /// the positions catch up. Zero when they are level.
-    fn lag_growth(&self) -> Real {
+    /// the positions catch up. Zero when they are level. Worked out once per call, from the
+    /// plans the call started with: a body re-planned during the call is grown by its own
+    /// reach, so the pairs between two grown proxies are covered too.
+    fn lag_growth(&mut self) -> Real {
         let lag = self.clock.kds - self.clock.pos;
         if lag <= 0.0 {
             return 0.0;
         }
-        self.moving
+        if let Some(g) = self.lag_reach {
+            return g;
+        }
+        let g = self
+            .moving
             .iter()
             .map(|b| reach_over(&self.motions[b].plan, self.clock.pos, lag))
-            .fold(0.0, Real::max)
+            .fold(0.0, Real::max);
+        self.lag_reach = Some(g);
+        g
     }
 
     fn own_reach(&self, hold: &Hold) -> Real {
@@ -688,6 +695,7 @@ impl BroadPhase for KineticBroadPhase {
             }
         }
         let update = self.clock.updates;
+        self.lag_reach = None;
 
         for &h in removed_colliders {
             self.remove_collider(h);
@@ -707,7 +715,13 @@ impl BroadPhase for KineticBroadPhase {
             }
             let i = h.into_raw_parts().0 as usize;
             let held = self.proxies[i].expect("known").hold;
-            let hold = Hold::of(co, bodies, params, self.slack_fraction, self.min_slack);
+            // Only the user changes shapes, parents and body types (at the start of a step);
+            // after a position update a held collider has only moved with its body.
+            let hold = if starts_step {
+                Hold::of(co, bodies, params, self.slack_fraction, self.min_slack)
+            } else {
+                held
+            };
             if !held.same(&hold) {
                 // A new shape, body or body type: held afresh.
                 self.detach(i as u32, false);
