@@ -50,6 +50,7 @@
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
+pub mod frames;
 pub mod run;
 pub mod scene;
 pub mod scenes;

@@ -1,16 +1,18 @@
 //! The `kinetic-collide` command-line tool: runs a scene file and writes its exact event log.
 
 use clap::{Parser, Subcommand};
-use kinetic_collide::run::{RunError, RunOutput, StructureName, run_scene, write_whole};
+use kinetic_collide::frames::{FrameSpec, Overlay, render_series, run_with_snapshots};
+use kinetic_collide::run::{RunError, RunOutput, StructureName, write_whole};
 use kinetic_collide::scene::Scene;
 use kinetic_collide::scenes::BallScene;
+use kinetic_render::Snapshot;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 /// Exact kinetic collision detection for moving objects.
 ///
 /// With no command, runs the built-in scene (marbles on a table) and writes its scene, event
-/// log and statistics under out/marbles_on_a_table/.
+/// log, statistics and 60 PNG frames under out/marbles_on_a_table/.
 #[derive(Parser, Debug)]
 #[command(name = "kinetic-collide", version)]
 struct Cli {
@@ -34,6 +36,19 @@ enum Command {
         /// brute-force (default: chosen from the scene).
         #[arg(long)]
         structure: Option<String>,
+        /// Also render N frames at even times over the horizon, as PNG.
+        #[arg(long, value_name = "N", default_value_t = 0)]
+        frames: usize,
+        /// Where the frames go (default: out/<scene file name>/).
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+        /// Frame size, WxH.
+        #[arg(long, value_name = "WxH", default_value = "640x480")]
+        size: String,
+        /// What to draw over the objects: none, candidates (candidate-pair lines) or boxes
+        /// (the structure's boxes: threshold boxes, sweep or guard boxes).
+        #[arg(long, value_name = "NAME", default_value = "none")]
+        overlay: String,
     },
 }
 
@@ -52,12 +67,19 @@ fn main() -> ExitCode {
             events,
             stats,
             structure,
-        }) => run_file(
-            &scene,
-            events.as_deref(),
-            stats.as_deref(),
-            structure.as_deref(),
-        ),
+            frames,
+            out,
+            size,
+            overlay,
+        }) => frame_request(&scene, frames, out, &size, &overlay).and_then(|frames| {
+            run_file(
+                &scene,
+                events.as_deref(),
+                stats.as_deref(),
+                structure.as_deref(),
+                frames,
+            )
+        }),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -70,11 +92,40 @@ fn main() -> ExitCode {
 
 type Failure = (u8, String);
 
+/// Frames asked for: the spec and the folder.
+type Frames = Option<(FrameSpec, PathBuf)>;
+
+fn frame_request(
+    scene: &Path,
+    count: usize,
+    out: Option<PathBuf>,
+    size: &str,
+    overlay: &str,
+) -> Result<Frames, Failure> {
+    let (width, height) = FrameSpec::parse_size(size).map_err(|e| (2, e.to_string()))?;
+    let overlay = Overlay::parse(overlay).map_err(|e| (2, e.to_string()))?;
+    if count == 0 {
+        return Ok(None);
+    }
+    let name = scene
+        .file_stem()
+        .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
+    let dir = out.unwrap_or_else(|| Path::new("out").join(name));
+    let spec = FrameSpec {
+        count,
+        width,
+        height,
+        overlay,
+    };
+    Ok(Some((spec, dir)))
+}
+
 fn run_file(
     path: &Path,
     events: Option<&Path>,
     stats: Option<&Path>,
     structure: Option<&str>,
+    frames: Frames,
 ) -> Result<(), Failure> {
     let structure = structure
         .map(StructureName::parse)
@@ -83,8 +134,17 @@ fn run_file(
     let text = std::fs::read_to_string(path)
         .map_err(|e| (2, format!("{}: cannot read: {e}", path.display())))?;
     let scene = Scene::from_json(&text).map_err(|e| (2, format!("{}: {e}", path.display())))?;
-    let (output, stopped) = match run_scene(&scene, structure) {
-        Ok(out) => (out, None),
+    let spec = frames.as_ref().map_or(
+        FrameSpec {
+            count: 0,
+            width: 1,
+            height: 1,
+            overlay: Overlay::None,
+        },
+        |(spec, _)| *spec,
+    );
+    let (output, snapshots, stopped) = match run_with_snapshots(&scene, structure, &spec) {
+        Ok((out, snapshots)) => (out, snapshots, None),
         Err(RunError::Input(msg)) => return Err((2, format!("{}: {msg}", path.display()))),
         Err(RunError::Stopped {
             time,
@@ -92,14 +152,32 @@ fn run_file(
             partial,
         }) => (
             *partial,
+            Vec::new(),
             Some(format!("run stopped at t = {time}: {source}")),
         ),
     };
     write_outputs(&output, events, stats)?;
     eprintln!("{}", output.summary());
-    match stopped {
-        Some(msg) => Err((1, format!("{msg} (events up to then were written)"))),
-        None => Ok(()),
+    if let Some(msg) = stopped {
+        return Err((1, format!("{msg} (events up to then were written)")));
+    }
+    if let Some((spec, dir)) = frames {
+        write_frames(&snapshots, &spec, &dir)?;
+    }
+    Ok(())
+}
+
+/// Renders the frames after the log and statistics are safe on disk.
+fn write_frames(snapshots: &[Snapshot], spec: &FrameSpec, dir: &Path) -> Result<(), Failure> {
+    match render_series(snapshots, spec.width, spec.height, dir) {
+        Ok(files) => {
+            eprintln!("wrote {} frames to {}", files.len(), dir.display());
+            Ok(())
+        }
+        Err(e) => Err((
+            1,
+            format!("frames not written: {e} (the event log and statistics were written)"),
+        )),
     }
 }
 
@@ -122,7 +200,13 @@ fn write_outputs(
 fn default_scene() -> Result<(), Failure> {
     let dir = Path::new("out/marbles_on_a_table");
     let scene = BallScene::marbles_on_a_table().build();
-    let output = match run_scene(&scene, None) {
+    let spec = FrameSpec {
+        count: DEFAULT_FRAMES,
+        width: 640,
+        height: 480,
+        overlay: Overlay::None,
+    };
+    let (output, snapshots) = match run_with_snapshots(&scene, None, &spec) {
         Ok(out) => out,
         Err(e) => return Err((1, e.to_string())),
     };
@@ -139,5 +223,8 @@ fn default_scene() -> Result<(), Failure> {
         output.events.len(),
         stats.display()
     );
-    Ok(())
+    write_frames(&snapshots, &spec, dir)
 }
+
+/// Frames the built-in scene writes.
+const DEFAULT_FRAMES: usize = 60;

@@ -191,14 +191,44 @@ pub fn build_world(
 
 /// Runs `scene` to its horizon with the named structure (or the chosen one).
 pub fn run_scene(scene: &Scene, structure: Option<StructureName>) -> Result<RunOutput, RunError> {
+    run_scene_sampled(scene, structure, &[], |_, _| {})
+}
+
+/// [`run_scene`], stopping at each of `times` (increasing, within the horizon) to call
+/// `sample` with the world at that time and the events since the previous sample. The
+/// output is the same as without samples, bit for bit.
+pub fn run_scene_sampled(
+    scene: &Scene,
+    structure: Option<StructureName>,
+    times: &[f64],
+    mut sample: impl FnMut(&World, &[ContactEvent]),
+) -> Result<RunOutput, RunError> {
     let start = Instant::now();
     let (mut world, name) = build_world(scene, structure)?;
-    let result = world.advance_to(scene.horizon);
+    let mut events = Vec::new();
+    let mut result = Ok(());
+    for &t in times.iter().filter(|&&t| t < scene.horizon) {
+        result = world.advance_to(t);
+        let seen = events.len();
+        events.extend(world.drain_events());
+        if result.is_err() {
+            break;
+        }
+        sample(&world, &events[seen..]);
+    }
+    if result.is_ok() {
+        result = world.advance_to(scene.horizon);
+        let seen = events.len();
+        events.extend(world.drain_events());
+        if result.is_ok() && times.last().is_some_and(|&t| t >= scene.horizon) {
+            sample(&world, &events[seen..]);
+        }
+    }
     let output = RunOutput {
         structure: name,
         objects: scene.objects.len(),
         horizon: scene.horizon,
-        events: world.drain_events(),
+        events,
         stats: world.stats().clone(),
         structure_stats: world.structure_counters(),
         wall_seconds: start.elapsed().as_secs_f64(),

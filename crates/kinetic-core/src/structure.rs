@@ -5,7 +5,7 @@
 //! and reports contacts; a structure only decides which pairs are candidates. The brute force
 //! ([`crate::BruteForce`]) makes every pair a candidate and has no events of its own.
 
-use crate::math::Real;
+use crate::math::{Real, Vec3};
 use crate::world::Body;
 
 /// A change to the candidate set: `delta` is +1 (the structure now needs the pair certified)
@@ -58,6 +58,11 @@ pub trait CandidateStructure: std::fmt::Debug {
     fn certificates(&self) -> usize;
     /// The structure's own figures for the statistics, by name (none by default).
     fn counters(&self) -> Vec<(&'static str, f64)> {
+        Vec::new()
+    }
+    /// The boxes the structure keeps at time `now`, as (min, max) corners, for pictures:
+    /// threshold boxes, object boxes (none by default).
+    fn boxes(&self, _bodies: &Bodies, _now: Real) -> Vec<(Vec3, Vec3)> {
         Vec::new()
     }
     /// Recomputes the structure's invariants from scratch at time `now`.

@@ -1028,6 +1028,18 @@ impl CandidateStructure for Guards {
         self.lists.certificates() + self.watch_certs
     }
 
+    fn boxes(&self, bodies: &Bodies, now: Real) -> Vec<(Vec3, Vec3)> {
+        self.half
+            .iter()
+            .enumerate()
+            .filter(|&(_, &h)| h > 0.0)
+            .filter_map(|(id, &h)| {
+                let c = bodies.get(id)?.as_ref()?.plan.position_at(now);
+                Some((c - Vec3::splat(h), c + Vec3::splat(h)))
+            })
+            .collect()
+    }
+
     fn counters(&self) -> Vec<(&'static str, f64)> {
         let m = f64::from(self.grid.m);
         vec![

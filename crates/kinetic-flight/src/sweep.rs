@@ -262,6 +262,14 @@ impl CandidateStructure for Sweep {
         vec![("box_pairs", self.pairs as f64)]
     }
 
+    fn boxes(&self, bodies: &Bodies, now: Real) -> Vec<(Vec3, Vec3)> {
+        let centre = |id: usize| bodies.get(id)?.as_ref().map(|b| b.plan.position_at(now));
+        (0..self.ends.len())
+            .filter_map(|id| Some((centre(id)?, self.ends[id]?)))
+            .map(|(c, (lo, hi))| (c + lo, c + hi))
+            .collect()
+    }
+
     fn validate(&self, bodies: &Bodies, now: Real) -> Result<(), String> {
         self.lists.validate(
             "sweep",

@@ -34,17 +34,34 @@ impl Camera {
     /// assert!((x - 320.0).abs() < 1.0 && (y - 240.0).abs() < 1.0);
     /// ```
     pub fn framing(snapshot: &Snapshot, aspect: f32) -> Camera {
-        let up = snapshot.up.normalize_or(Vec3::Y);
+        Camera::framing_all(std::slice::from_ref(snapshot), aspect)
+    }
+
+    /// A camera that frames every snapshot of a series (whose up is the first one's), so
+    /// the frames can be played one after another.
+    pub fn framing_all(snapshots: &[Snapshot], aspect: f32) -> Camera {
+        let up = snapshots
+            .first()
+            .map_or(Vec3::Z, |s| s.up)
+            .normalize_or(Vec3::Y);
         // A viewing direction fixed per up axis, so the frames of a series do not jitter.
         let side = up.any_orthonormal_vector();
         let across = up.cross(side);
         let back = (side * -0.55 + across * -0.75 + up * 0.62).normalize();
         let fov_y = 40f32.to_radians();
-        let (lo, hi) = snapshot.bounds().unwrap_or((Vec3::splat(-1.0), Vec3::ONE));
+        let (lo, hi) = snapshots
+            .iter()
+            .filter_map(Snapshot::bounds)
+            .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
+            .unwrap_or((Vec3::splat(-1.0), Vec3::ONE));
         let right = up.cross(back).normalize_or(side);
         let cam_up = back.cross(right);
         let (tan_y, tan_x) = ((fov_y * 0.5).tan(), (fov_y * 0.5).tan() * aspect);
-        let points: Vec<Vec3> = snapshot.points().chain([lo, hi]).collect();
+        let points: Vec<Vec3> = snapshots
+            .iter()
+            .flat_map(Snapshot::points)
+            .chain([lo, hi])
+            .collect();
         let depth = points
             .iter()
             .map(|p| (*p - (lo + hi) * 0.5).length())

@@ -1,7 +1,7 @@
 //! The collision tree as the simulator's candidate structure.
 
-use crate::tree::{ListLayout, NONE, RollingTree};
-use kinetic_core::{Bodies, CandidateStructure, PairChange, Real};
+use crate::tree::{ListLayout, NONE, RollingTree, Side, half_side};
+use kinetic_core::{Bodies, CandidateStructure, PairChange, Real, Vec3};
 
 impl CandidateStructure for RollingTree {
     fn name(&self) -> &'static str {
@@ -50,6 +50,25 @@ impl CandidateStructure for RollingTree {
 
     fn certificates(&self) -> usize {
         self.certs
+    }
+
+    /// The threshold boxes of every node, flat in the plane (z = 0).
+    fn boxes(&self, bodies: &Bodies, now: Real) -> Vec<(Vec3, Vec3)> {
+        let mut out = Vec::new();
+        for (b, path) in self.paths.iter().enumerate() {
+            let Some(Some(body)) = bodies.get(b) else {
+                continue;
+            };
+            let p = body.plan.position_at(now);
+            for step in path.iter().filter(|s| s.side == Side::Large) {
+                let h = half_side(self.radius[b], self.nodes[step.node as usize].rho);
+                out.push((
+                    Vec3::new(p.x - h, p.y - h, 0.0),
+                    Vec3::new(p.x + h, p.y + h, 0.0),
+                ));
+            }
+        }
+        out
     }
 
     fn counters(&self) -> Vec<(&'static str, f64)> {

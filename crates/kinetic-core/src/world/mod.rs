@@ -366,6 +366,28 @@ impl World {
         self.pairs.len()
     }
 
+    /// The candidate pairs, lower id first, in no particular order.
+    pub fn candidate_pair_list(&self) -> Vec<(ObjectId, ObjectId)> {
+        self.pairs
+            .iter()
+            .map(|(_, c)| (ObjectId(c.a), ObjectId(c.b)))
+            .collect()
+    }
+
+    /// The pairs in contact now (response `none` only; under `elastic` contacts are instants).
+    pub fn touching_pairs(&self) -> Vec<(ObjectId, ObjectId)> {
+        self.pairs
+            .iter()
+            .filter(|(_, c)| c.touching)
+            .map(|(_, c)| (ObjectId(c.a), ObjectId(c.b)))
+            .collect()
+    }
+
+    /// The boxes the structure keeps now, for pictures ([`CandidateStructure::boxes`]).
+    pub fn structure_boxes(&self) -> Vec<(crate::Vec3, crate::Vec3)> {
+        self.structure.boxes(&self.bodies, self.now)
+    }
+
     /// Number of certificates: pair certificates, wall certificates and the structure's own.
     pub fn certificates(&self) -> usize {
         self.pairs.len() + self.wall_queue.len() + self.structure.certificates()
