@@ -38,13 +38,13 @@ pub struct BallScene {
 }
 
 impl BallScene {
-    /// The default scene: marbles on a table, 300 balls of radii 1:10 rolling and bouncing
+    /// The default scene: marbles on a table, 300 balls of radii 1:50 rolling and bouncing
     /// elastically inside the table's rim.
     pub fn marbles_on_a_table() -> BallScene {
         BallScene {
             n: 300,
-            r_min: 0.05,
-            r_max: 0.5,
+            r_min: 0.02,
+            r_max: 1.0,
             side: 30.0,
             speed: 2.0,
             acceleration: 0.0,
