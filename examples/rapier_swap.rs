@@ -134,7 +134,7 @@ fn main() {
                 .iter()
                 .find(|i| i.colour == [0.5, 0.5, 0.46, 1.0])
                 .map(|g| {
-                    let c = g.corners(&[]);
+                    let c = g.outline(&[]);
                     c.iter()
                         .fold((c[0], c[0]), |(a, b), &p| (a.min(p), b.max(p)))
                 })

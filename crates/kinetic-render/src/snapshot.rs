@@ -73,11 +73,23 @@ impl Instance {
         }
     }
 
-    /// Points whose hull holds the instance in world space (the corners of its mesh's box,
-    /// or of a ball's box).
-    pub fn corners(&self, hulls: &[HullMesh]) -> [Vec3; 8] {
+    /// Points that outline the instance in world space: the corners of its mesh's box, or
+    /// for a ball 14 points of its surface (axes and diagonals), close to its outline from
+    /// any side.
+    pub fn outline(&self, hulls: &[HullMesh]) -> Vec<Vec3> {
         let (min, max) = match self.mesh {
-            MeshKind::Ball | MeshKind::Cuboid => (Vec3::splat(-1.0), Vec3::ONE),
+            MeshKind::Ball => {
+                let (scale, _, centre) = self.transform.to_scale_rotation_translation();
+                let r = scale.abs().max_element();
+                let diagonal = box_corners(Vec3::splat(-1.0), Vec3::ONE).map(|d| d.normalize());
+                let axes = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
+                return diagonal
+                    .iter()
+                    .chain(&axes)
+                    .map(|d| centre + *d * r)
+                    .collect();
+            }
+            MeshKind::Cuboid => (Vec3::splat(-1.0), Vec3::ONE),
             MeshKind::Quad => (Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, 1.0, 0.0)),
             MeshKind::Hull(i) => hulls.get(i as usize).map_or((Vec3::ZERO, Vec3::ZERO), |h| {
                 h.points
@@ -87,13 +99,10 @@ impl Instance {
                     })
             }),
         };
-        if self.mesh == MeshKind::Ball {
-            // A ball's box does not turn with it.
-            let (scale, _, centre) = self.transform.to_scale_rotation_translation();
-            let r = scale.abs().max_element();
-            return box_corners(centre - r, centre + r);
-        }
-        box_corners(min, max).map(|p| self.transform.transform_point3(p))
+        box_corners(min, max)
+            .iter()
+            .map(|&p| self.transform.transform_point3(p))
+            .collect()
     }
 }
 
@@ -168,11 +177,11 @@ impl Snapshot {
         }
     }
 
-    /// Points whose hull holds everything drawn (instances and lines).
+    /// Points that outline everything drawn (instances and lines).
     pub fn points(&self) -> impl Iterator<Item = Vec3> + '_ {
         self.instances
             .iter()
-            .flat_map(|i| i.corners(&self.hulls))
+            .flat_map(|i| i.outline(&self.hulls))
             .chain(self.lines.iter().flat_map(|l| [l.a, l.b]))
             .filter(|p| p.is_finite())
     }
