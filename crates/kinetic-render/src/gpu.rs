@@ -335,8 +335,9 @@ impl Renderer {
             .filter(|i| i.mesh == MeshKind::Ball)
             .count();
         let ball_mesh = match balls {
-            0..=4000 => 0,
-            4001..=40000 => 1,
+            // Fewer triangles per ball as balls get many (and small on screen): 1280, 320, 80.
+            0..=100 => 0,
+            101..=2000 => 1,
             _ => 2,
         };
         let mut order: Vec<usize> = (0..snapshot.instances.len()).collect();
