@@ -103,6 +103,9 @@ impl Growable {
     }
 }
 
+/// Hull meshes uploaded: the list they came from, their vertices, each mesh's range.
+type HullBuffer = (Arc<Vec<HullMesh>>, wgpu::Buffer, Vec<Range<u32>>);
+
 /// A headless renderer: snapshots in, RGBA frames out.
 pub struct Renderer {
     device: wgpu::Device,
@@ -117,7 +120,7 @@ pub struct Renderer {
     base: wgpu::Buffer,
     base_ranges: [Range<u32>; 5],
     /// The hull meshes of the last snapshot (uploaded again when the `Arc` changes).
-    hulls: Option<(Arc<Vec<HullMesh>>, wgpu::Buffer, Vec<Range<u32>>)>,
+    hulls: Option<HullBuffer>,
     instances: Growable,
     lines: Growable,
 }
