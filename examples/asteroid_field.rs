@@ -5,8 +5,8 @@
 //!
 //! `cargo run --release --example asteroid_field -- [boxes|candidates] [N]`.
 
-use kinetic_collide::frames::{FrameSpec, Overlay, render_series, run_with_snapshots};
-use kinetic_collide::run::{StructureName, write_whole};
+use kinetic_collide::frames::{FrameSpec, Overlay, render_series, run_with_snapshots, write_run};
+use kinetic_collide::run::StructureName;
 use kinetic_collide::scenes::FlightScene;
 use std::path::Path;
 
@@ -23,9 +23,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let (output, snapshots) = run_with_snapshots(&scene, Some(StructureName::Guards), &spec)?;
     let dir = Path::new("out/asteroid_field");
-    write_whole(&dir.join("scene.json"), &scene.to_json())?;
-    write_whole(&dir.join("events.jsonl"), &output.event_log())?;
-    write_whole(&dir.join("stats.json"), &output.stats_json())?;
+    write_run(dir, &scene, &output)?;
     println!("asteroid field: {}", output.summary());
     let start = std::time::Instant::now();
     let files = render_series(&snapshots, spec.width, spec.height, dir)?;

@@ -6,8 +6,7 @@
 //! `cargo run --release --example marbles_on_a_table -- [boxes|candidates]` adds an overlay:
 //! the tree's threshold boxes, or lines between candidate pairs.
 
-use kinetic_collide::frames::{FrameSpec, Overlay, render_series, run_with_snapshots};
-use kinetic_collide::run::write_whole;
+use kinetic_collide::frames::{FrameSpec, Overlay, render_series, run_with_snapshots, write_run};
 use kinetic_collide::scenes::BallScene;
 use std::path::Path;
 
@@ -22,8 +21,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let (output, snapshots) = run_with_snapshots(&scene, None, &spec)?;
     let dir = Path::new("out/marbles_on_a_table");
-    write_whole(&dir.join("events.jsonl"), &output.event_log())?;
-    write_whole(&dir.join("stats.json"), &output.stats_json())?;
+    write_run(dir, &scene, &output)?;
     println!("marbles on a table: {}", output.summary());
     let start = std::time::Instant::now();
     let files = render_series(&snapshots, spec.width, spec.height, dir)?;

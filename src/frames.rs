@@ -248,6 +248,14 @@ pub fn run_with_snapshots(
     Ok((output, snapshots))
 }
 
+/// Writes a run's scene, event log and statistics to `dir/{scene.json, events.jsonl,
+/// stats.json}` (each whole or not at all).
+pub fn write_run(dir: &Path, scene: &Scene, output: &RunOutput) -> std::io::Result<()> {
+    crate::run::write_whole(&dir.join("scene.json"), &scene.to_json())?;
+    crate::run::write_whole(&dir.join("events.jsonl"), &output.event_log())?;
+    crate::run::write_whole(&dir.join("stats.json"), &output.stats_json())
+}
+
 /// Renders `snapshots` (one camera framing them all) to `dir/frame_0000.png`, ..., with a
 /// progress bar on a terminal. Returns the files written.
 pub fn render_series(

@@ -83,6 +83,16 @@ pub(crate) fn ball(levels: u32) -> Vec<Vertex> {
     out
 }
 
+/// The square `[-1, 1]^2` as two counter-clockwise triangles.
+const SQUARE: [(f32, f32); 6] = [
+    (-1.0, -1.0),
+    (1.0, -1.0),
+    (1.0, 1.0),
+    (-1.0, -1.0),
+    (1.0, 1.0),
+    (-1.0, 1.0),
+];
+
 /// The cube `[-1, 1]^3` with flat faces.
 pub(crate) fn cube() -> Vec<Vertex> {
     let mut out = Vec::with_capacity(36);
@@ -96,14 +106,7 @@ pub(crate) fn cube() -> Vec<Vertex> {
             // u x w = +n; flip the winding on the negative face.
             let (u, w) = if sign > 0.0 { (u, w) } else { (w, u) };
             let corner = |a: f32, b: f32| n + u * a + w * b;
-            for (a, b) in [
-                (-1.0, -1.0),
-                (1.0, -1.0),
-                (1.0, 1.0),
-                (-1.0, -1.0),
-                (1.0, 1.0),
-                (-1.0, 1.0),
-            ] {
+            for (a, b) in SQUARE {
                 push(&mut out, corner(a, b), n);
             }
         }
@@ -114,14 +117,7 @@ pub(crate) fn cube() -> Vec<Vertex> {
 /// The square `[-1, 1]^2` at z = 0, facing +z (and drawn from both sides).
 pub(crate) fn quad() -> Vec<Vertex> {
     let mut out = Vec::with_capacity(6);
-    for (x, y) in [
-        (-1.0, -1.0),
-        (1.0, -1.0),
-        (1.0, 1.0),
-        (-1.0, -1.0),
-        (1.0, 1.0),
-        (-1.0, 1.0),
-    ] {
+    for (x, y) in SQUARE {
         push(&mut out, Vec3::new(x, y, 0.0), Vec3::Z);
     }
     out
