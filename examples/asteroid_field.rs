@@ -17,9 +17,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let scene = FlightScene::asteroids(n, 1000.0, 3).build();
     let spec = FrameSpec {
         count: 60,
-        width: 640,
-        height: 480,
         overlay,
+        ..FrameSpec::default()
     };
     let (output, snapshots) = run_with_snapshots(&scene, Some(StructureName::Guards), &spec)?;
     let dir = Path::new("out/asteroid_field");

@@ -15,9 +15,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let scene = BallScene::marbles_on_a_table().build();
     let spec = FrameSpec {
         count: 60,
-        width: 640,
-        height: 480,
         overlay,
+        ..FrameSpec::default()
     };
     let (output, snapshots) = run_with_snapshots(&scene, None, &spec)?;
     let dir = Path::new("out/marbles_on_a_table");

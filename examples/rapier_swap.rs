@@ -5,10 +5,10 @@
 //! steps at 60 Hz). Writes a PNG frame every 5 steps to `out/rapier_swap/` (colliders in
 //! contact in red).
 
-use kinetic_collide::frames::CONTACT;
+use kinetic_collide::frames::{CONTACT, PALETTE, PLANE, render_series_from};
 use kinetic_rapier::KineticBroadPhase;
 use kinetic_rapier::scenes::{RapierScene, rain};
-use kinetic_render::{AdapterChoice, Camera, Instance, Renderer, Snapshot};
+use kinetic_render::{Camera, Instance, Snapshot};
 use rapier3d::prelude::*;
 
 /// Steps between frames.
@@ -34,15 +34,11 @@ fn snapshot(colliders: &ColliderSet, narrow_phase: &NarrowPhase) -> Snapshot {
             glam::Quat::from_xyzw(q.x, q.y, q.z, q.w),
         );
         let colour = if collider.parent().is_none() {
-            [0.5, 0.5, 0.46, 1.0]
+            PLANE
         } else if touching.contains(&handle) {
             CONTACT
         } else {
-            [
-                [0.3, 0.45, 0.7, 1.0],
-                [0.55, 0.6, 0.35, 1.0],
-                [0.7, 0.6, 0.4, 1.0],
-            ][handle.into_raw_parts().0 as usize % 3]
+            PALETTE[handle.into_raw_parts().0 as usize % PALETTE.len()]
         };
         if let Some(ball) = collider.shape().as_ball() {
             s.instances
@@ -126,34 +122,22 @@ fn main() {
     );
     let dir = std::path::Path::new("out/rapier_swap");
     let (width, height) = (640, 480);
-    let written = Renderer::new(width, height, AdapterChoice::from_env()).and_then(|mut r| {
-        // Frame the ground and as much air above it as it is wide (the rain starts far higher).
-        let mut view = Snapshot::new(glam::Vec3::Y);
-        if let Some((lo, hi)) = snapshots.first().and_then(|s| {
-            s.instances
-                .iter()
-                .find(|i| i.colour == [0.5, 0.5, 0.46, 1.0])
-                .map(|g| {
-                    let c = g.outline(&[]);
-                    c.iter()
-                        .fold((c[0], c[0]), |(a, b), &p| (a.min(p), b.max(p)))
-                })
-        }) {
-            view.wire_box(
-                lo,
-                glam::Vec3::new(hi.x, hi.y + (hi.x - lo.x) * 0.5, hi.z),
-                [0.0; 4],
-            );
-        }
-        let camera = Camera::framing(&view, width as f32 / height as f32);
-        for (k, s) in snapshots.iter().enumerate() {
-            r.render(s, &camera)?
-                .save_png(&dir.join(format!("frame_{k:04}.png")))?;
-        }
-        Ok(snapshots.len())
-    });
+    // Frame the ground and as much air above it as it is wide (the rain starts far higher).
+    let mut view = Snapshot::new(glam::Vec3::Y);
+    for (_, ground) in colliders.iter().filter(|(_, c)| c.parent().is_none()) {
+        let b = ground.compute_aabb();
+        let (lo, hi) = (b.mins, b.maxs);
+        let air = hi.y + (hi.x - lo.x) * 0.5;
+        view.wire_box(
+            glam::Vec3::new(lo.x, lo.y, lo.z),
+            glam::Vec3::new(hi.x, air, hi.z),
+            [0.0; 4],
+        );
+    }
+    let camera = Camera::framing(&view, width as f32 / height as f32);
+    let written = render_series_from(&snapshots, &camera, width, height, dir);
     match written {
-        Ok(n) => println!("wrote {n} frames to {}", dir.display()),
+        Ok(files) => println!("wrote {} frames to {}", files.len(), dir.display()),
         Err(e) => {
             eprintln!("frames not written: {e}");
             std::process::exit(1);

@@ -53,6 +53,18 @@ pub struct FrameSpec {
     pub overlay: Overlay,
 }
 
+impl Default for FrameSpec {
+    /// No frames; 640x480 and no overlay when some are asked for.
+    fn default() -> FrameSpec {
+        FrameSpec {
+            count: 0,
+            width: 640,
+            height: 480,
+            overlay: Overlay::None,
+        }
+    }
+}
+
 impl FrameSpec {
     /// Parses a `WxH` size such as `640x480`.
     pub fn parse_size(text: &str) -> Result<(u32, u32), RunError> {
@@ -83,7 +95,7 @@ pub fn frame_times(horizon: f64, count: usize) -> Vec<f64> {
 }
 
 /// Soft colours for objects at rest from contact (linear RGB), by object id.
-const PALETTE: [[f32; 4]; 6] = [
+pub const PALETTE: [[f32; 4]; 6] = [
     [0.30, 0.45, 0.70, 1.0],
     [0.55, 0.60, 0.35, 1.0],
     [0.35, 0.60, 0.55, 1.0],
@@ -93,7 +105,8 @@ const PALETTE: [[f32; 4]; 6] = [
 ];
 /// Objects in contact.
 pub const CONTACT: [f32; 4] = [0.90, 0.06, 0.02, 1.0];
-const PLANE: [f32; 4] = [0.50, 0.50, 0.46, 1.0];
+/// The plane, and fixed ground.
+pub const PLANE: [f32; 4] = [0.50, 0.50, 0.46, 1.0];
 const CANDIDATE_LINE: [f32; 4] = [0.05, 0.05, 0.05, 1.0];
 const BOX_LINE: [f32; 4] = [0.02, 0.10, 0.45, 1.0];
 
@@ -249,11 +262,18 @@ pub fn run_with_snapshots(
 }
 
 /// Writes a run's scene, event log and statistics to `dir/{scene.json, events.jsonl,
-/// stats.json}` (each whole or not at all).
-pub fn write_run(dir: &Path, scene: &Scene, output: &RunOutput) -> std::io::Result<()> {
-    crate::run::write_whole(&dir.join("scene.json"), &scene.to_json())?;
-    crate::run::write_whole(&dir.join("events.jsonl"), &output.event_log())?;
-    crate::run::write_whole(&dir.join("stats.json"), &output.stats_json())
+/// stats.json}` (each whole or not at all); an error names the file.
+pub fn write_run(dir: &Path, scene: &Scene, output: &RunOutput) -> Result<(), String> {
+    for (name, text) in [
+        ("scene.json", scene.to_json()),
+        ("events.jsonl", output.event_log()),
+        ("stats.json", output.stats_json()),
+    ] {
+        let path = dir.join(name);
+        crate::run::write_whole(&path, &text)
+            .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
+    }
+    Ok(())
 }
 
 /// Renders `snapshots` (one camera framing them all) to `dir/frame_0000.png`, ..., with a
@@ -264,8 +284,19 @@ pub fn render_series(
     height: u32,
     dir: &Path,
 ) -> Result<Vec<PathBuf>, RenderError> {
-    let mut renderer = Renderer::new(width, height, AdapterChoice::from_env())?;
     let camera = Camera::framing_all(snapshots, width as f32 / height as f32);
+    render_series_from(snapshots, &camera, width, height, dir)
+}
+
+/// [`render_series`] from a given camera.
+pub fn render_series_from(
+    snapshots: &[Snapshot],
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, RenderError> {
+    let mut renderer = Renderer::new(width, height, AdapterChoice::from_env())?;
     let bar = indicatif::ProgressBar::new(snapshots.len() as u64);
     bar.set_style(
         indicatif::ProgressStyle::with_template("frames {bar:40} {pos}/{len} {elapsed}")
@@ -274,7 +305,7 @@ pub fn render_series(
     let mut written = Vec::with_capacity(snapshots.len());
     for (k, s) in snapshots.iter().enumerate() {
         let path = dir.join(format!("frame_{k:04}.png"));
-        renderer.render(s, &camera)?.save_png(&path)?;
+        renderer.render(s, camera)?.save_png(&path)?;
         written.push(path);
         bar.inc(1);
     }

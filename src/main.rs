@@ -1,7 +1,7 @@
 //! The `kinetic-collide` command-line tool: runs a scene file and writes its exact event log.
 
 use clap::{Parser, Subcommand};
-use kinetic_collide::frames::{FrameSpec, Overlay, render_series, run_with_snapshots};
+use kinetic_collide::frames::{FrameSpec, Overlay, render_series, run_with_snapshots, write_run};
 use kinetic_collide::run::{RunError, RunOutput, StructureName, write_whole};
 use kinetic_collide::scene::Scene;
 use kinetic_collide::scenes::BallScene;
@@ -134,15 +134,9 @@ fn run_file(
     let text = std::fs::read_to_string(path)
         .map_err(|e| (2, format!("{}: cannot read: {e}", path.display())))?;
     let scene = Scene::from_json(&text).map_err(|e| (2, format!("{}: {e}", path.display())))?;
-    let spec = frames.as_ref().map_or(
-        FrameSpec {
-            count: 0,
-            width: 1,
-            height: 1,
-            overlay: Overlay::None,
-        },
-        |(spec, _)| *spec,
-    );
+    let spec = frames
+        .as_ref()
+        .map_or(FrameSpec::default(), |(spec, _)| *spec);
     let (output, snapshots, stopped) = match run_with_snapshots(&scene, structure, &spec) {
         Ok((out, snapshots)) => (out, snapshots, None),
         Err(RunError::Input(msg)) => return Err((2, format!("{}: {msg}", path.display()))),
@@ -202,26 +196,18 @@ fn default_scene() -> Result<(), Failure> {
     let scene = BallScene::marbles_on_a_table().build();
     let spec = FrameSpec {
         count: DEFAULT_FRAMES,
-        width: 640,
-        height: 480,
-        overlay: Overlay::None,
+        ..FrameSpec::default()
     };
     let (output, snapshots) = match run_with_snapshots(&scene, None, &spec) {
         Ok(out) => out,
         Err(e) => return Err((1, e.to_string())),
     };
-    let io = |p: &Path, e: std::io::Error| (1, format!("{}: cannot write: {e}", p.display()));
-    let scene_path = dir.join("scene.json");
-    write_whole(&scene_path, &scene.to_json()).map_err(|e| io(&scene_path, e))?;
-    let (events, stats) = (dir.join("events.jsonl"), dir.join("stats.json"));
-    write_outputs(&output, Some(&events), Some(&stats))?;
+    write_run(dir, &scene, &output).map_err(|e| (1, e))?;
     println!("marbles on a table: {}", output.summary());
     println!(
-        "wrote {}, {} ({} events) and {}",
-        scene_path.display(),
-        events.display(),
+        "wrote {0}/scene.json, {0}/events.jsonl ({1} events) and {0}/stats.json",
+        dir.display(),
         output.events.len(),
-        stats.display()
     );
     write_frames(&snapshots, &spec, dir)
 }
