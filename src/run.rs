@@ -6,7 +6,7 @@ use kinetic_core::{
     BruteForce, CandidateStructure, ContactEvent, ContactKind, Shape, Stats, World, WorldError,
     WorldKind,
 };
-use kinetic_flight::{Choice, ConvexShape, Guards, Sweep};
+use kinetic_flight::{Choice, ConvexShape, Grid, Guards, Sweep};
 use kinetic_rolling::{ListLayout, RollingTree};
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -22,17 +22,20 @@ pub enum StructureName {
     Sweep,
     /// Guards and cones for arbitrary sizes (Section 3.2).
     Guards,
+    /// The sweep's box pairs, found in a hierarchical kinetic grid (neighbours only).
+    Grid,
     /// One certificate per pair: the exact reference.
     BruteForce,
 }
 
 impl StructureName {
     /// Every name, as written on the command line.
-    pub const ALL: [(&'static str, StructureName); 5] = [
+    pub const ALL: [(&'static str, StructureName); 6] = [
         ("rolling-tree", StructureName::RollingTree),
         ("rolling-global-lists", StructureName::RollingGlobalLists),
         ("sweep", StructureName::Sweep),
         ("guards", StructureName::Guards),
+        ("grid", StructureName::Grid),
         ("brute-force", StructureName::BruteForce),
     ];
 
@@ -154,13 +157,16 @@ fn make_structure(
                 name.as_str()
             )))
         }
-        StructureName::Sweep | StructureName::Guards if scene.world == WorldKind::Plane => {
+        StructureName::Sweep | StructureName::Guards | StructureName::Grid
+            if scene.world == WorldKind::Plane =>
+        {
             Err(RunError::Input(format!(
                 "--structure {}: applies to \"free\" worlds only",
                 name.as_str()
             )))
         }
         StructureName::Sweep => Ok(Box::new(Sweep::new())),
+        StructureName::Grid => Ok(Box::new(Grid::new())),
         StructureName::Guards => Ok(Box::new(Guards::new(kinetic_flight::guard_fatness(shapes)))),
     }
 }

@@ -92,7 +92,12 @@ fn free(objects: Vec<SceneObject>, horizon: f64) -> Scene {
     }
 }
 
-const BOTH: [StructureName; 2] = [StructureName::Sweep, StructureName::Guards];
+/// Every free-flight structure.
+const FREE: [StructureName; 3] = [
+    StructureName::Sweep,
+    StructureName::Guards,
+    StructureName::Grid,
+];
 
 fn scene(n: usize, sigma: f64, shapes: ShapeMix, seed: u64) -> FlightScene {
     FlightScene {
@@ -114,6 +119,28 @@ fn sweep_balls_similar_sizes() {
         StructureName::Sweep,
     );
     assert!(contacts > 20, "{contacts}");
+}
+
+#[test]
+fn grid_balls_similar_sizes_and_accelerated_mixed_shapes() {
+    let contacts = check(
+        FlightScene {
+            spin: 0.0,
+            ..scene(150, 1.0, ShapeMix::Balls, 1)
+        },
+        StructureName::Grid,
+    );
+    assert!(contacts > 20, "{contacts}");
+    for (shapes, seed) in [(ShapeMix::Cuboids, 2), (ShapeMix::Mixed, 3)] {
+        let contacts = check(
+            FlightScene {
+                acceleration: 2.0,
+                ..scene(100, 3.0, shapes, seed)
+            },
+            StructureName::Grid,
+        );
+        assert!(contacts > 10, "{shapes:?}: {contacts}");
+    }
 }
 
 #[test]
@@ -148,7 +175,7 @@ fn guards_balls_similar_sizes() {
 
 #[test]
 fn both_structures_mixed_shapes_sigma_100() {
-    for structure in [StructureName::Sweep, StructureName::Guards] {
+    for structure in FREE {
         let contacts = check(scene(150, 100.0, ShapeMix::Mixed, 5), structure);
         assert!(contacts > 10, "{contacts}");
     }
@@ -156,7 +183,7 @@ fn both_structures_mixed_shapes_sigma_100() {
 
 #[test]
 fn both_structures_mixed_shapes_sigma_1e4_accelerated() {
-    for structure in [StructureName::Sweep, StructureName::Guards] {
+    for structure in FREE {
         let contacts = check(
             FlightScene {
                 acceleration: 0.2,
@@ -199,7 +226,7 @@ fn lattice_sharing_coordinates_with_simultaneous_contacts() {
         }
     }
     let scene = free(objects, 4.0);
-    for structure in BOTH {
+    for structure in FREE {
         let contacts = check_scene(&scene, structure, "lattice");
         assert!(contacts > 50, "{contacts}");
     }
@@ -229,7 +256,7 @@ fn objects_starting_in_contact() {
         object(cube(1.0), row(3.0) + x(2.0), x(1.0)),
     ];
     let scene = free(objects, 6.0);
-    for structure in BOTH {
+    for structure in FREE {
         let contacts = check_scene(&scene, structure, "start in contact");
         assert!(contacts >= 6, "{contacts}");
     }
@@ -265,7 +292,7 @@ fn a_huge_object_ringed_by_tiny_ones() {
         objects.push(object(shape, position, velocity));
     }
     let scene = free(objects, 5.0);
-    for structure in BOTH {
+    for structure in FREE {
         let contacts = check_scene(&scene, structure, "ring");
         assert!(contacts >= 40, "{contacts}");
     }
@@ -277,7 +304,7 @@ fn coordinates_offset_by_1e6() {
     for o in &mut scene.objects {
         o.position += DVec3::splat(1e6);
     }
-    for structure in BOTH {
+    for structure in FREE {
         let contacts = check_scene(&scene, structure, "offset 1e6");
         assert!(contacts > 5, "{contacts}");
     }
@@ -292,7 +319,7 @@ fn nests_of_fig_6_cones_drop_candidates_and_miss_nothing() {
         ..NestScene::new(100, 1e4, 10)
     }
     .build();
-    for structure in BOTH {
+    for structure in FREE {
         let contacts = check_scene(&scene, structure, "nests");
         assert!(contacts > 10, "{contacts}");
     }
@@ -312,4 +339,28 @@ fn nests_of_fig_6_cones_drop_candidates_and_miss_nothing() {
         guards < 0.75 * sweep,
         "guards {guards} pairs, sweep {sweep}"
     );
+}
+
+#[test]
+fn elastic_gas_with_walls_gives_the_brute_force_log_with_every_structure() {
+    // Every bounce re-plans two balls: the structures' replan paths, audited after each event.
+    use kinetic_collide::scenes::BallScene;
+    for (r_max, seed) in [(0.5, 4), (4.0, 5)] {
+        let scene = BallScene {
+            response: kinetic_collide::Response::Elastic,
+            walls: true,
+            allow_overlap: false,
+            r_max,
+            acceleration: 0.5,
+            horizon: 8.0,
+            ..BallScene::gas(60, seed)
+        }
+        .build();
+        let reference = run_audited(&scene, StructureName::BruteForce);
+        assert!(reference.len() > 30, "{}", reference.len());
+        for structure in FREE {
+            let got = run_audited(&scene, structure);
+            assert_eq!(got, reference, "{structure:?} r_max {r_max}");
+        }
+    }
 }

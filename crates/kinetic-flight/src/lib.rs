@@ -41,12 +41,14 @@
 mod axes;
 mod choose;
 mod cones;
+mod grid;
 mod guards;
 mod shape;
 mod sweep;
 
 pub use choose::{Choice, RHO_MAX, SIGMA_MAX, choose, guard_fatness, scale_factor};
 pub use cones::{Cone, ConeSet};
+pub use grid::Grid;
 pub use guards::{GuardGrid, Guards};
 pub use shape::{ConvexShape, ShapeError, fatness};
 pub use sweep::Sweep;

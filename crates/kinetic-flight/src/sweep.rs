@@ -41,11 +41,11 @@ fn upper(id: u32) -> u32 {
 }
 
 /// A box as offsets (min, max) from the object's centre.
-type Ends = (Vec3, Vec3);
+pub(crate) type Ends = (Vec3, Vec3);
 
 /// Object `id`'s box about its centre: its own axis-aligned box when it does not spin and its
 /// geometry gives one, the box of its outer ball otherwise; inflated.
-fn box_ends(bodies: &Bodies, id: u32) -> Ends {
+pub(crate) fn box_ends(bodies: &Bodies, id: u32) -> Ends {
     let body = bodies[id as usize].as_ref().expect("a live object");
     let r = body.shape.outer_radius();
     let own = match &body.shape {

@@ -1,0 +1,875 @@
+//! `grid`: a hierarchical kinetic grid over the sweep's boxes. Candidate pairs are the same as
+//! the sweep's (the objects whose boxes overlap), but a pair is only ever looked at while the
+//! two boxes share a grid cell, so the work follows the objects' neighbourhoods instead of
+//! three global orders: a body falling past a pile a kilometre away costs nothing.
+//!
+//! - Levels: level `L` has cubic cells of side `base 2^L`. An object lives at the lowest level
+//!   whose cells are at least as wide as its box, so its box spans at most two cells per axis
+//!   there. It is also a visitor at every occupied level above its own.
+//! - Footprints: at each of its levels an object holds the range of cells its box overlaps.
+//!   Four certificates per axis keep it: each end of the box stays within the cell range. An
+//!   end that leaves the range extends it at once; an end that moved a whole cell inward
+//!   shrinks it once it is a hysteresis (`1e-6` of the cell) past the line, so an end that
+//!   sits on a grid line never makes events back and forth.
+//! - Pairs: two objects are a grid pair while they share a cell at the higher of their two
+//!   levels (a visitor pairs with the cell's owners, an owner with everyone there), counted
+//!   over the cells they share. Boxes that overlap share every cell of their overlap, so no
+//!   pair with overlapping boxes is outside the grid pairs.
+//! - Box pairs: each grid pair keeps, per axis, whether the two boxes overlap there, with its
+//!   certificate; the pair is a candidate while all three do. Boxes meet exactly when they
+//!   meet and part a hysteresis (`1e-6` of the smaller box) after they part.
+//!
+//! Cost: O(1) certificates per object and per grid pair; an event costs O(1) hash-map work
+//! and a queue update. The sweep's events are the swaps of three global orders, O(n^2) for
+//! a crowd that passes another; the grid's are the cell crossings and the box events of
+//! neighbours, O(n) per unit of distance travelled.
+
+use crate::sweep::{Ends, box_ends};
+use kinetic_core::roots::roots_after_zero;
+use kinetic_core::{
+    Bodies, CandidateStructure, EventQueue, PairChange, Poly, Real, ScalarKey, Vec3,
+};
+use rustc_hash::FxHashMap;
+use std::collections::BTreeSet;
+
+/// Hysteresis of a release (a footprint shrinking, two boxes parting), relative to the cell
+/// or the smaller box.
+const HYSTERESIS: Real = 1e-6;
+/// The same, relative to the coordinates: several float spacings, so that a release is never
+/// undone by rounding at large coordinates.
+const HYSTERESIS_ABS: Real = 1e-12;
+
+/// A cell: its level and integer coordinates.
+type CellKey = (i32, i64, i64, i64);
+
+/// A polynomial in local time `tau = t - now`: `[c0, c1, c2]`.
+type Local = [Real; 3];
+
+/// The first time after `now` at which `c - g` changes sign to `to` (+1 or -1), or `now`
+/// itself when it is already on that side just after `now`; +infinity for never.
+fn crossing(c: Local, g: Real, to: i8, now: Real) -> Real {
+    let p = Poly::new(&[c[0] - g, c[1], c[2]]);
+    let s = p.sign_just_after_zero();
+    if s == to {
+        return now;
+    }
+    if s == 0 {
+        return Real::INFINITY;
+    }
+    roots_after_zero(&p)
+        .iter()
+        .find(|r| r.is_sign_change() && r.after == to)
+        .map_or(Real::INFINITY, |r| now + r.tau)
+}
+
+fn sign_after(c: Local) -> i8 {
+    Poly::new(&c).sign_just_after_zero()
+}
+
+fn minus(a: Local, b: Local) -> Local {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// The cells an object covers at one level, and the footprint certificates' failure times.
+#[derive(Clone, Debug)]
+struct Track {
+    level: i32,
+    /// Per axis, the first and last cell index.
+    cells: [[i64; 2]; 3],
+    /// Per axis: lower end leaves (extend down), lower end a cell in (shrink), upper end
+    /// leaves (extend up), upper end a cell in (shrink).
+    due: [[Real; 4]; 3],
+}
+
+/// An object in the grid.
+#[derive(Clone, Debug)]
+struct Member {
+    level: i32,
+    /// Its box's size (the widest side).
+    width: Real,
+    /// The lower and upper ends of its box, per axis.
+    lo: [ScalarKey; 3],
+    hi: [ScalarKey; 3],
+    /// Its own level first, then the occupied levels above it.
+    tracks: Vec<Track>,
+    /// Its grid pairs' slots.
+    pairs: Vec<u32>,
+}
+
+/// A cell's objects: those living at its level, and visitors from below.
+#[derive(Clone, Debug, Default)]
+struct Cell {
+    owners: Vec<u32>,
+    visitors: Vec<u32>,
+}
+
+/// A grid pair: objects `a < b` sharing `count` cells.
+#[derive(Clone, Debug)]
+struct Slot {
+    a: u32,
+    b: u32,
+    count: u32,
+    /// Per axis, whether the boxes overlap there (with the parting hysteresis).
+    inside: [bool; 3],
+    due: [Real; 3],
+    /// Whether the pair is a candidate (all three axes inside).
+    reported: bool,
+}
+
+/// The hierarchical kinetic grid: candidate pairs are the objects whose boxes overlap (the
+/// sweep's), found among the objects that share grid cells.
+#[derive(Debug, Default)]
+pub struct Grid {
+    base: Option<Real>,
+    occupied: BTreeSet<i32>,
+    members: Vec<Option<Member>>,
+    cells: FxHashMap<CellKey, Cell>,
+    pair_of: FxHashMap<(u32, u32), u32>,
+    slots: Vec<Option<Slot>>,
+    free: Vec<u32>,
+    crossings_queue: EventQueue,
+    pairs_queue: EventQueue,
+    box_pairs: usize,
+    crossings: u64,
+    pair_events: u64,
+    scratch: Vec<u32>,
+}
+
+impl Grid {
+    /// An empty grid; its finest cells are sized by the first objects.
+    pub fn new() -> Grid {
+        Grid::default()
+    }
+
+    /// Number of overlapping box pairs (the candidates).
+    pub fn box_pairs(&self) -> usize {
+        self.box_pairs
+    }
+
+    /// Number of grid pairs (objects sharing a cell), candidates included.
+    pub fn grid_pairs(&self) -> usize {
+        self.pair_of.len()
+    }
+
+    fn cell_size(&self, level: i32) -> Real {
+        self.base.unwrap_or(1.0) * (2.0 as Real).powi(level)
+    }
+
+    fn level_for(&self, width: Real) -> i32 {
+        let base = self.base.unwrap_or(1.0);
+        if width > 0.0 && width.is_finite() {
+            ((width / base).log2().ceil() as i32).clamp(-200, 200)
+        } else {
+            0
+        }
+    }
+
+    fn present(&self, id: u32) -> bool {
+        self.members.get(id as usize).is_some_and(Option::is_some)
+    }
+
+    fn member(&self, id: u32) -> &Member {
+        self.members[id as usize].as_ref().expect("a member")
+    }
+
+    /// The member for object `id`'s current plan and box (no tracks yet).
+    fn make_member(&self, bodies: &Bodies, id: u32) -> Member {
+        let (lo, hi): Ends = box_ends(bodies, id);
+        let plan = &bodies[id as usize].as_ref().expect("a live object").plan;
+        let width = (hi - lo).max_element();
+        Member {
+            level: self.level_for(width),
+            width,
+            lo: std::array::from_fn(|k| ScalarKey::from_plan(plan, k, lo[k])),
+            hi: std::array::from_fn(|k| ScalarKey::from_plan(plan, k, hi[k])),
+            tracks: Vec::new(),
+            pairs: Vec::new(),
+        }
+    }
+
+    /// The footprint of `m` at `level` at time `now`, certificates not yet computed.
+    fn footprint(&self, m: &Member, level: i32, now: Real) -> Track {
+        let s = self.cell_size(level);
+        let mut cells = [[0i64; 2]; 3];
+        for (k, c) in cells.iter_mut().enumerate() {
+            let (lo, hi) = (m.lo[k].local(now), m.hi[k].local(now));
+            let mut a = (lo[0] / s).floor() as i64;
+            while sign_after([lo[0] - s * a as Real, lo[1], lo[2]]) < 0 {
+                a -= 1;
+            }
+            let mut b = ((hi[0] / s).floor() as i64).max(a);
+            while sign_after([s * (b + 1) as Real - hi[0], -hi[1], -hi[2]]) < 0 {
+                b += 1;
+            }
+            *c = [a, b];
+        }
+        let mut track = Track {
+            level,
+            cells,
+            due: [[Real::INFINITY; 4]; 3],
+        };
+        for k in 0..3 {
+            self.certify_axis(m, &mut track, k, now);
+        }
+        track
+    }
+
+    /// The four footprint certificates of `track` on `axis`.
+    fn certify_axis(&self, m: &Member, track: &mut Track, k: usize, now: Real) {
+        let s = self.cell_size(track.level);
+        let [a, b] = track.cells[k];
+        let (lo, hi) = (m.lo[k].local(now), m.hi[k].local(now));
+        let slack = |g: Real| HYSTERESIS * s + HYSTERESIS_ABS * g.abs();
+        let (ga, gb) = (s * a as Real, s * (b + 1) as Real);
+        let inner_a = s * (a + 1) as Real;
+        let inner_b = s * b as Real;
+        track.due[k] = [
+            crossing(lo, ga, -1, now),
+            if a < b {
+                crossing(lo, inner_a + slack(inner_a), 1, now)
+            } else {
+                Real::INFINITY
+            },
+            crossing(hi, gb, 1, now),
+            if a < b {
+                crossing(hi, inner_b - slack(inner_b), -1, now)
+            } else {
+                Real::INFINITY
+            },
+        ];
+    }
+
+    fn next_crossing(m: &Member) -> Real {
+        m.tracks
+            .iter()
+            .flat_map(|t| t.due.iter().flatten())
+            .fold(Real::INFINITY, |x, &y| x.min(y))
+    }
+
+    fn schedule_member(&mut self, id: u32) {
+        let t = Self::next_crossing(self.member(id));
+        if t.is_finite() {
+            self.crossings_queue.schedule(id, t, 0);
+        } else {
+            self.crossings_queue.remove(id);
+        }
+    }
+
+    /// Cells of `track` whose index on axis `k` is `i` (a slab), or all when `k` is 3.
+    fn cells_of(track: &Track, slab: Option<(usize, i64)>, out: &mut Vec<CellKey>) {
+        out.clear();
+        let range = |k: usize| match slab {
+            Some((axis, i)) if axis == k => i..=i,
+            _ => track.cells[k][0]..=track.cells[k][1],
+        };
+        for x in range(0) {
+            for y in range(1) {
+                for z in range(2) {
+                    out.push((track.level, x, y, z));
+                }
+            }
+        }
+    }
+
+    fn enter(
+        &mut self,
+        id: u32,
+        key: CellKey,
+        owner: bool,
+        now: Real,
+        changes: &mut Vec<PairChange>,
+    ) {
+        let cell = self.cells.entry(key).or_default();
+        let mut partners = std::mem::take(&mut self.scratch);
+        partners.clear();
+        partners.extend_from_slice(&cell.owners);
+        if owner {
+            partners.extend_from_slice(&cell.visitors);
+            cell.owners.push(id);
+        } else {
+            cell.visitors.push(id);
+        }
+        for &p in &partners {
+            self.pair_up(id, p, now, changes);
+        }
+        self.scratch = partners;
+    }
+
+    fn leave(&mut self, id: u32, key: CellKey, owner: bool, changes: &mut Vec<PairChange>) {
+        let Some(cell) = self.cells.get_mut(&key) else {
+            return;
+        };
+        let list = if owner {
+            &mut cell.owners
+        } else {
+            &mut cell.visitors
+        };
+        if let Some(i) = list.iter().position(|&x| x == id) {
+            list.swap_remove(i);
+        }
+        let mut partners = std::mem::take(&mut self.scratch);
+        partners.clear();
+        partners.extend_from_slice(&cell.owners);
+        if owner {
+            partners.extend_from_slice(&cell.visitors);
+        }
+        if cell.owners.is_empty() && cell.visitors.is_empty() {
+            self.cells.remove(&key);
+        }
+        for &p in &partners {
+            self.pair_down(id, p, changes);
+        }
+        self.scratch = partners;
+    }
+
+    /// The per-axis states of the boxes of `a` and `b` just after `now`, and their
+    /// certificates.
+    fn certify_pair(&self, slot: &mut Slot, now: Real, fresh: bool) {
+        let (ma, mb) = (self.member(slot.a), self.member(slot.b));
+        let slack_rel = HYSTERESIS * ma.width.min(mb.width);
+        for k in 0..3 {
+            // p1: b's upper end above a's lower end; p2: a's upper end above b's lower end.
+            let p1 = minus(mb.hi[k].local(now), ma.lo[k].local(now));
+            let p2 = minus(ma.hi[k].local(now), mb.lo[k].local(now));
+            if fresh {
+                slot.inside[k] = sign_after(p1) >= 0 && sign_after(p2) >= 0;
+            }
+            slot.due[k] = if slot.inside[k] {
+                let e = slack_rel + HYSTERESIS_ABS * (ma.lo[k].k0.abs() + mb.lo[k].k0.abs());
+                crossing(p1, -e, -1, now).min(crossing(p2, -e, -1, now))
+            } else {
+                // Apart on this axis: the one of p1, p2 that is below zero (their sum, the
+                // two widths, is positive) comes back up.
+                let low = if p1[0] <= p2[0] { p1 } else { p2 };
+                crossing(low, 0.0, 1, now)
+            };
+        }
+    }
+
+    fn schedule_slot(&mut self, i: u32) {
+        let slot = self.slots[i as usize].as_ref().expect("a slot");
+        let t = slot.due.iter().fold(Real::INFINITY, |x, &y| x.min(y));
+        if t.is_finite() {
+            self.pairs_queue.schedule(i, t, 0);
+        } else {
+            self.pairs_queue.remove(i);
+        }
+    }
+
+    /// Reports a change of slot `i`'s candidacy.
+    fn report(&mut self, i: u32, changes: &mut Vec<PairChange>) {
+        let slot = self.slots[i as usize].as_mut().expect("a slot");
+        let now_in = slot.inside.iter().all(|&x| x);
+        if now_in != slot.reported {
+            slot.reported = now_in;
+            let delta = if now_in { 1 } else { -1 };
+            changes.push(PairChange {
+                a: slot.a,
+                b: slot.b,
+                delta,
+            });
+            if now_in {
+                self.box_pairs += 1;
+            } else {
+                self.box_pairs -= 1;
+            }
+        }
+    }
+
+    fn pair_up(&mut self, x: u32, y: u32, now: Real, changes: &mut Vec<PairChange>) {
+        let key = (x.min(y), x.max(y));
+        if let Some(&i) = self.pair_of.get(&key) {
+            self.slots[i as usize].as_mut().expect("a slot").count += 1;
+            return;
+        }
+        let mut slot = Slot {
+            a: key.0,
+            b: key.1,
+            count: 1,
+            inside: [false; 3],
+            due: [Real::INFINITY; 3],
+            reported: false,
+        };
+        self.certify_pair(&mut slot, now, true);
+        let i = match self.free.pop() {
+            Some(i) => {
+                self.slots[i as usize] = Some(slot);
+                i
+            }
+            None => {
+                self.slots.push(Some(slot));
+                (self.slots.len() - 1) as u32
+            }
+        };
+        self.pair_of.insert(key, i);
+        for m in [key.0, key.1] {
+            self.members[m as usize]
+                .as_mut()
+                .expect("a member")
+                .pairs
+                .push(i);
+        }
+        self.schedule_slot(i);
+        self.report(i, changes);
+    }
+
+    fn pair_down(&mut self, x: u32, y: u32, changes: &mut Vec<PairChange>) {
+        let key = (x.min(y), x.max(y));
+        let Some(&i) = self.pair_of.get(&key) else {
+            return;
+        };
+        let slot = self.slots[i as usize].as_mut().expect("a slot");
+        slot.count -= 1;
+        if slot.count > 0 {
+            return;
+        }
+        if slot.reported {
+            slot.inside = [false; 3];
+            self.report(i, changes);
+        }
+        self.slots[i as usize] = None;
+        self.free.push(i);
+        self.pair_of.remove(&key);
+        self.pairs_queue.remove(i);
+        for m in [key.0, key.1] {
+            let pairs = &mut self.members[m as usize].as_mut().expect("a member").pairs;
+            if let Some(j) = pairs.iter().position(|&p| p == i) {
+                pairs.swap_remove(j);
+            }
+        }
+    }
+
+    /// Makes `level` occupied: every member below it becomes a visitor there.
+    fn occupy(&mut self, level: i32, now: Real, changes: &mut Vec<PairChange>) {
+        if !self.occupied.insert(level) {
+            return;
+        }
+        let below: Vec<u32> = (0..self.members.len() as u32)
+            .filter(|&id| {
+                self.members[id as usize]
+                    .as_ref()
+                    .is_some_and(|m| m.level < level && !m.tracks.is_empty())
+            })
+            .collect();
+        let mut keys = Vec::new();
+        for id in below {
+            let track = self.footprint(self.member(id), level, now);
+            Self::cells_of(&track, None, &mut keys);
+            let m = self.members[id as usize].as_mut().expect("a member");
+            let at = m.tracks.partition_point(|t| t.level < level);
+            m.tracks.insert(at, track);
+            for &key in &keys {
+                self.enter(id, key, false, now, changes);
+            }
+            self.schedule_member(id);
+        }
+    }
+
+    /// Puts member `id` (already in `members`, no tracks) into the cells of its levels.
+    fn place(&mut self, id: u32, now: Real, changes: &mut Vec<PairChange>) {
+        let level = self.member(id).level;
+        let levels: Vec<i32> = self.occupied.range(level..).copied().collect();
+        let mut keys = Vec::new();
+        for l in levels {
+            let track = self.footprint(self.member(id), l, now);
+            Self::cells_of(&track, None, &mut keys);
+            self.members[id as usize]
+                .as_mut()
+                .expect("a member")
+                .tracks
+                .push(track);
+            for &key in &keys {
+                self.enter(id, key, l == level, now, changes);
+            }
+        }
+        self.schedule_member(id);
+    }
+
+    /// Takes member `id` out of every cell (its pairs go) and out of the queue.
+    fn unplace(&mut self, id: u32, changes: &mut Vec<PairChange>) {
+        let m = self.members[id as usize].as_ref().expect("a member");
+        let (level, tracks) = (m.level, m.tracks.clone());
+        let mut keys = Vec::new();
+        for track in &tracks {
+            Self::cells_of(track, None, &mut keys);
+            for &key in &keys {
+                self.leave(id, key, track.level == level, changes);
+            }
+        }
+        self.crossings_queue.remove(id);
+    }
+
+    fn process_crossing(&mut self, id: u32, now: Real, changes: &mut Vec<PairChange>) {
+        self.crossings += 1;
+        let m = self.member(id);
+        // The due certificate: its track, axis and kind.
+        let (mut ti, mut k, mut kind, mut best) = (0, 0, 0, Real::INFINITY);
+        for (i, t) in m.tracks.iter().enumerate() {
+            for (axis, due) in t.due.iter().enumerate() {
+                for (c, &d) in due.iter().enumerate() {
+                    if d < best {
+                        (ti, k, kind, best) = (i, axis, c, d);
+                    }
+                }
+            }
+        }
+        let owner = m.tracks[ti].level == m.level;
+        let mut track = m.tracks[ti].clone();
+        let [a, b] = track.cells[k];
+        let mut keys = Vec::new();
+        match kind {
+            0 => {
+                track.cells[k][0] = a - 1;
+                Self::cells_of(&track, Some((k, a - 1)), &mut keys);
+                for &key in &keys {
+                    self.enter(id, key, owner, now, changes);
+                }
+            }
+            1 => {
+                Self::cells_of(&track, Some((k, a)), &mut keys);
+                track.cells[k][0] = a + 1;
+                for &key in &keys {
+                    self.leave(id, key, owner, changes);
+                }
+            }
+            2 => {
+                track.cells[k][1] = b + 1;
+                Self::cells_of(&track, Some((k, b + 1)), &mut keys);
+                for &key in &keys {
+                    self.enter(id, key, owner, now, changes);
+                }
+            }
+            _ => {
+                Self::cells_of(&track, Some((k, b)), &mut keys);
+                track.cells[k][1] = b - 1;
+                for &key in &keys {
+                    self.leave(id, key, owner, changes);
+                }
+            }
+        }
+        self.certify_axis(self.member(id), &mut track, k, now);
+        self.members[id as usize].as_mut().expect("a member").tracks[ti] = track;
+        self.schedule_member(id);
+    }
+
+    fn process_pair(&mut self, i: u32, now: Real, changes: &mut Vec<PairChange>) {
+        self.pair_events += 1;
+        let mut slot = self.slots[i as usize].take().expect("a slot");
+        let k = (0..3)
+            .min_by(|&x, &y| slot.due[x].total_cmp(&slot.due[y]))
+            .expect("three axes");
+        slot.inside[k] = !slot.inside[k];
+        self.certify_pair(&mut slot, now, false);
+        self.slots[i as usize] = Some(slot);
+        self.schedule_slot(i);
+        self.report(i, changes);
+    }
+}
+
+impl CandidateStructure for Grid {
+    fn name(&self) -> &'static str {
+        "grid"
+    }
+
+    fn insert(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>) {
+        self.insert_many(&[id], bodies, now, changes);
+    }
+
+    fn insert_many(
+        &mut self,
+        ids: &[u32],
+        bodies: &Bodies,
+        now: Real,
+        changes: &mut Vec<PairChange>,
+    ) {
+        if self.base.is_none() {
+            // The finest cells fit the smallest box.
+            let w = ids
+                .iter()
+                .map(|&id| {
+                    let (lo, hi) = box_ends(bodies, id);
+                    (hi - lo).max_element()
+                })
+                .filter(|w| *w > 0.0 && w.is_finite())
+                .fold(Real::INFINITY, Real::min);
+            if w.is_finite() {
+                self.base = Some(w);
+            }
+        }
+        let mut fresh = Vec::with_capacity(ids.len());
+        for &id in ids {
+            if self.present(id) {
+                continue;
+            }
+            let m = self.make_member(bodies, id);
+            if self.members.len() <= id as usize {
+                self.members.resize(id as usize + 1, None);
+            }
+            // Levels first, so that the visitors are in place when the owners come.
+            self.occupy(m.level, now, changes);
+            self.members[id as usize] = Some(m);
+            fresh.push(id);
+        }
+        for id in fresh {
+            self.place(id, now, changes);
+        }
+    }
+
+    fn remove(&mut self, id: u32, _: &Bodies, _: Real, changes: &mut Vec<PairChange>) {
+        if !self.present(id) {
+            return;
+        }
+        self.unplace(id, changes);
+        self.members[id as usize] = None;
+    }
+
+    fn replan(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>) {
+        if !self.present(id) {
+            return;
+        }
+        let new = self.make_member(bodies, id);
+        if new.level != self.member(id).level {
+            // A new box size: placed afresh.
+            self.unplace(id, changes);
+            self.occupy(new.level, now, changes);
+            self.members[id as usize] = Some(new);
+            self.place(id, now, changes);
+            return;
+        }
+        let m = self.members[id as usize].as_mut().expect("a member");
+        (m.lo, m.hi, m.width) = (new.lo, new.hi, new.width);
+        // Enter the new cells before leaving the old, so that shared cells keep their pairs.
+        let old = m.tracks.clone();
+        let level = m.level;
+        let (mut before, mut after) = (Vec::new(), Vec::new());
+        for (ti, old_track) in old.iter().enumerate() {
+            let track = self.footprint(self.member(id), old_track.level, now);
+            Self::cells_of(old_track, None, &mut before);
+            Self::cells_of(&track, None, &mut after);
+            let owner = old_track.level == level;
+            for &key in &after {
+                if !before.contains(&key) {
+                    self.enter(id, key, owner, now, changes);
+                }
+            }
+            for &key in &before {
+                if !after.contains(&key) {
+                    self.leave(id, key, owner, changes);
+                }
+            }
+            self.members[id as usize].as_mut().expect("a member").tracks[ti] = track;
+        }
+        self.schedule_member(id);
+        for i in self.member(id).pairs.clone() {
+            let mut slot = self.slots[i as usize].take().expect("a slot");
+            self.certify_pair(&mut slot, now, true);
+            self.slots[i as usize] = Some(slot);
+            self.schedule_slot(i);
+            self.report(i, changes);
+        }
+    }
+
+    fn next_event_time(&self) -> Real {
+        self.crossings_queue
+            .next_time()
+            .min(self.pairs_queue.next_time())
+    }
+
+    fn process_next_event(&mut self, _: &Bodies, changes: &mut Vec<PairChange>) -> &'static str {
+        let (c, p) = (self.crossings_queue.peek(), self.pairs_queue.peek());
+        match (c, p) {
+            (Some((id, t)), p) if p.is_none_or(|(_, tp)| t <= tp) => {
+                self.process_crossing(id, t, changes);
+                "crossing"
+            }
+            (_, Some((i, t))) => {
+                self.process_pair(i, t, changes);
+                "box"
+            }
+            _ => "crossing",
+        }
+    }
+
+    fn certificates(&self) -> usize {
+        let tracks: usize = self.members.iter().flatten().map(|m| m.tracks.len()).sum();
+        4 * 3 * tracks + 3 * self.pair_of.len()
+    }
+
+    fn counters(&self) -> Vec<(&'static str, f64)> {
+        vec![
+            ("box_pairs", self.box_pairs as f64),
+            ("grid_pairs", self.pair_of.len() as f64),
+            ("cells", self.cells.len() as f64),
+            ("levels", self.occupied.len() as f64),
+            ("crossings", self.crossings as f64),
+            ("box_events", self.pair_events as f64),
+        ]
+    }
+
+    fn boxes(&self, _: &Bodies, now: Real) -> Vec<(Vec3, Vec3)> {
+        self.members
+            .iter()
+            .flatten()
+            .map(|m| {
+                let lo = Vec3::from_array(std::array::from_fn(|k| m.lo[k].value_at(now)));
+                let hi = Vec3::from_array(std::array::from_fn(|k| m.hi[k].value_at(now)));
+                (lo, hi)
+            })
+            .collect()
+    }
+
+    fn validate(&self, bodies: &Bodies, now: Real) -> Result<(), String> {
+        self.crossings_queue.validate()?;
+        self.pairs_queue.validate()?;
+        let at = |key: &ScalarKey| key.value_at(now);
+        let mut listed: FxHashMap<(CellKey, u32), bool> = FxHashMap::default();
+        for (key, cell) in &self.cells {
+            if cell.owners.is_empty() && cell.visitors.is_empty() {
+                return Err(format!("grid: empty cell {key:?} kept"));
+            }
+            for (list, owner) in [(&cell.owners, true), (&cell.visitors, false)] {
+                for &id in list {
+                    if listed.insert((*key, id), owner).is_some() {
+                        return Err(format!("grid: object {id} twice in cell {key:?}"));
+                    }
+                }
+            }
+        }
+        let mut covered = 0usize;
+        let mut keys = Vec::new();
+        for (id, m) in self.members.iter().enumerate() {
+            let Some(m) = m else { continue };
+            let id = id as u32;
+            if bodies.get(id as usize).is_none_or(Option::is_none) {
+                return Err(format!("grid: object {id} held but not live"));
+            }
+            let want = self.make_member(bodies, id);
+            if want.level != m.level {
+                return Err(format!(
+                    "grid: object {id} at level {}, box says {}",
+                    m.level, want.level
+                ));
+            }
+            let levels: Vec<i32> = self.occupied.range(m.level..).copied().collect();
+            let have: Vec<i32> = m.tracks.iter().map(|t| t.level).collect();
+            if levels != have {
+                return Err(format!(
+                    "grid: object {id} tracks levels {have:?}, not {levels:?}"
+                ));
+            }
+            for t in &m.tracks {
+                let s = self.cell_size(t.level);
+                for k in 0..3 {
+                    let [a, b] = t.cells[k];
+                    let (lo, hi) = (at(&m.lo[k]), at(&m.hi[k]));
+                    let tol = 1e-9 * (s + lo.abs() + hi.abs());
+                    let slack = HYSTERESIS * s + HYSTERESIS_ABS * (lo.abs() + hi.abs()) + tol;
+                    if a > b
+                        || lo < s * a as Real - tol
+                        || hi > s * (b + 1) as Real + tol
+                        || (a < b && lo > s * (a + 1) as Real + slack)
+                        || (a < b && hi < s * b as Real - slack)
+                    {
+                        return Err(format!(
+                            "grid: object {id} at level {} axis {k}: cells {a}..={b} of side {s} for box [{lo}, {hi}]",
+                            t.level
+                        ));
+                    }
+                    if t.due[k].iter().any(|&d| d < now) {
+                        return Err(format!(
+                            "grid: object {id} has a footprint certificate due before {now}"
+                        ));
+                    }
+                }
+                Self::cells_of(t, None, &mut keys);
+                for key in &keys {
+                    if listed.get(&(*key, id)) != Some(&(t.level == m.level)) {
+                        return Err(format!(
+                            "grid: object {id} not listed right in cell {key:?}"
+                        ));
+                    }
+                }
+                covered += keys.len();
+            }
+        }
+        if covered != listed.len() {
+            return Err(format!(
+                "grid: {} listings for {covered} footprint cells",
+                listed.len()
+            ));
+        }
+        // Grid pairs: counted over the shared cells, owners with everyone.
+        let mut want: FxHashMap<(u32, u32), u32> = FxHashMap::default();
+        for cell in self.cells.values() {
+            for (i, &x) in cell.owners.iter().enumerate() {
+                for &y in cell.owners[i + 1..].iter().chain(&cell.visitors) {
+                    *want.entry((x.min(y), x.max(y))).or_default() += 1;
+                }
+            }
+        }
+        if want.len() != self.pair_of.len() {
+            return Err(format!(
+                "grid: {} grid pairs kept, {} share cells",
+                self.pair_of.len(),
+                want.len()
+            ));
+        }
+        let mut reported = 0;
+        for (key, count) in want {
+            let Some(&i) = self.pair_of.get(&key) else {
+                return Err(format!(
+                    "grid: pair {key:?} shares {count} cells but is not kept"
+                ));
+            };
+            let slot = self.slots[i as usize]
+                .as_ref()
+                .ok_or("grid: a kept pair without a slot")?;
+            if slot.count != count || (slot.a, slot.b) != key {
+                return Err(format!(
+                    "grid: pair {key:?} counted {} of {count}",
+                    slot.count
+                ));
+            }
+            if slot.reported != slot.inside.iter().all(|&x| x) {
+                return Err(format!(
+                    "grid: pair {key:?} reported {} against its axes",
+                    slot.reported
+                ));
+            }
+            reported += slot.reported as usize;
+            let (ma, mb) = (self.member(key.0), self.member(key.1));
+            for k in 0..3 {
+                let p1 = at(&mb.hi[k]) - at(&ma.lo[k]);
+                let p2 = at(&ma.hi[k]) - at(&mb.lo[k]);
+                let tol = 1e-9 * (ma.width + mb.width)
+                    + 1e-12 * (at(&ma.lo[k]).abs() + at(&mb.lo[k]).abs());
+                let e = HYSTERESIS * ma.width.min(mb.width)
+                    + tol
+                    + HYSTERESIS_ABS * (at(&ma.lo[k]).abs() + at(&mb.lo[k]).abs());
+                let ok = if slot.inside[k] {
+                    p1 >= -e && p2 >= -e
+                } else {
+                    p1 <= tol || p2 <= tol
+                };
+                if !ok {
+                    return Err(format!(
+                        "grid: pair {key:?} axis {k} inside = {} but the ends are {p1}, {p2} apart",
+                        slot.inside[k]
+                    ));
+                }
+                if slot.due[k] < now {
+                    return Err(format!(
+                        "grid: pair {key:?} has a certificate due before {now}"
+                    ));
+                }
+            }
+        }
+        if reported != self.box_pairs {
+            return Err(format!(
+                "grid: {} box pairs counted, {reported} reported",
+                self.box_pairs
+            ));
+        }
+        Ok(())
+    }
+}
