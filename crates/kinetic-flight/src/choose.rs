@@ -20,6 +20,8 @@ pub enum Choice {
     Sweep,
     /// [`crate::Guards`].
     Guards,
+    /// [`crate::Grid`].
+    Grid,
 }
 
 /// The scale factor sigma: largest over smallest inner radius (1 for fewer than two objects;

@@ -29,7 +29,7 @@ use kinetic_core::roots::roots_after_zero;
 use kinetic_core::{
     Bodies, CandidateStructure, EventQueue, PairChange, Poly, Real, ScalarKey, Vec3,
 };
-use rustc_hash::FxHashMap;
+use rustc_hash::{FxHashMap, FxHashSet};
 use std::collections::BTreeSet;
 
 /// Hysteresis of a release (a footprint shrinking, two boxes parting), relative to the cell
@@ -38,6 +38,11 @@ const HYSTERESIS: Real = 1e-6;
 /// The same, relative to the coordinates: several float spacings, so that a release is never
 /// undone by rounding at large coordinates.
 const HYSTERESIS_ABS: Real = 1e-12;
+
+/// The most a level's cells are widened for sparse objects.
+const MAX_WIDEN: Real = 64.0;
+/// The fewest objects of a level whose spread widens its cells.
+const WIDEN_MIN_OBJECTS: usize = 32;
 
 /// A cell: its level and integer coordinates.
 type CellKey = (i32, i64, i64, i64);
@@ -100,7 +105,8 @@ struct Member {
 #[derive(Clone, Debug, Default)]
 struct Cell {
     owners: Vec<u32>,
-    visitors: Vec<u32>,
+    /// A set: a coarse cell may hold thousands of small visitors.
+    visitors: FxHashSet<u32>,
 }
 
 /// A grid pair: objects `a < b` sharing `count` cells.
@@ -121,6 +127,8 @@ struct Slot {
 #[derive(Debug, Default)]
 pub struct Grid {
     base: Option<Real>,
+    /// Levels whose cells are wider than the level's size, by this power of two.
+    widen: FxHashMap<i32, Real>,
     occupied: BTreeSet<i32>,
     members: Vec<Option<Member>>,
     cells: FxHashMap<CellKey, Cell>,
@@ -151,8 +159,46 @@ impl Grid {
         self.pair_of.len()
     }
 
+    /// The side of level `level`'s cells: the level's own size, or wider where its objects
+    /// were sparse when the level was first filled.
     fn cell_size(&self, level: i32) -> Real {
-        self.base.unwrap_or(1.0) * (2.0 as Real).powi(level)
+        let own = self.base.unwrap_or(1.0) * (2.0 as Real).powi(level);
+        own * self.widen.get(&level).copied().unwrap_or(1.0)
+    }
+
+    /// Widens the cells of the levels that `ids` are the first to occupy, to about one object
+    /// of the level per cell (a power of two, at most [`MAX_WIDEN`]) where they are
+    /// sparse: fewer crossings, and still O(1) objects per cell.
+    fn widen_for(&mut self, ids: &[u32], bodies: &Bodies, now: Real) {
+        let mut spread: FxHashMap<i32, (usize, Vec3, Vec3)> = FxHashMap::default();
+        for &id in ids {
+            let m = self.make_member(bodies, id);
+            if self.occupied.contains(&m.level) {
+                continue;
+            }
+            let c = bodies[id as usize]
+                .as_ref()
+                .expect("a live object")
+                .plan
+                .position_at(now);
+            let e = spread.entry(m.level).or_insert((0, c, c));
+            *e = (e.0 + 1, e.1.min(c), e.2.max(c));
+        }
+        for (level, (n, lo, hi)) in spread {
+            if n < WIDEN_MIN_OBJECTS {
+                continue;
+            }
+            let own = self.cell_size(level);
+            let volume = (hi - lo).max(Vec3::splat(own)).element_product();
+            let side = (volume / n as Real).cbrt();
+            let mut f = 1.0;
+            while f < MAX_WIDEN && 2.0 * f * own <= side {
+                f *= 2.0;
+            }
+            if f > 1.0 {
+                self.widen.insert(level, f);
+            }
+        }
     }
 
     fn level_for(&self, width: Real) -> i32 {
@@ -284,10 +330,10 @@ impl Grid {
         partners.clear();
         partners.extend_from_slice(&cell.owners);
         if owner {
-            partners.extend_from_slice(&cell.visitors);
+            partners.extend(cell.visitors.iter().copied());
             cell.owners.push(id);
         } else {
-            cell.visitors.push(id);
+            cell.visitors.insert(id);
         }
         for &p in &partners {
             self.pair_up(id, p, now, changes);
@@ -299,19 +345,18 @@ impl Grid {
         let Some(cell) = self.cells.get_mut(&key) else {
             return;
         };
-        let list = if owner {
-            &mut cell.owners
+        if owner {
+            if let Some(i) = cell.owners.iter().position(|&x| x == id) {
+                cell.owners.swap_remove(i);
+            }
         } else {
-            &mut cell.visitors
-        };
-        if let Some(i) = list.iter().position(|&x| x == id) {
-            list.swap_remove(i);
+            cell.visitors.remove(&id);
         }
         let mut partners = std::mem::take(&mut self.scratch);
         partners.clear();
         partners.extend_from_slice(&cell.owners);
         if owner {
-            partners.extend_from_slice(&cell.visitors);
+            partners.extend(cell.visitors.iter().copied());
         }
         if cell.owners.is_empty() && cell.visitors.is_empty() {
             self.cells.remove(&key);
@@ -596,6 +641,7 @@ impl CandidateStructure for Grid {
                 self.base = Some(w);
             }
         }
+        self.widen_for(ids, bodies, now);
         let mut fresh = Vec::with_capacity(ids.len());
         for &id in ids {
             if self.present(id) {
@@ -727,8 +773,9 @@ impl CandidateStructure for Grid {
             if cell.owners.is_empty() && cell.visitors.is_empty() {
                 return Err(format!("grid: empty cell {key:?} kept"));
             }
-            for (list, owner) in [(&cell.owners, true), (&cell.visitors, false)] {
-                for &id in list {
+            let owners = cell.owners.iter().map(|&id| (id, true));
+            for (id, owner) in owners.chain(cell.visitors.iter().map(|&id| (id, false))) {
+                {
                     if listed.insert((*key, id), owner).is_some() {
                         return Err(format!("grid: object {id} twice in cell {key:?}"));
                     }

@@ -100,7 +100,18 @@ fn main() {
         ];
         for (name, make) in scenes {
             let d = run(make(n), &mut DefaultBroadPhase::new(), steps);
-            let mut kbp = KineticBroadPhase::default();
+            let mut kbp = match std::env::var("KINETIC_STRUCTURE").as_deref() {
+                Ok("grid") => {
+                    KineticBroadPhase::default().with_structure(kinetic_flight::Choice::Grid)
+                }
+                Ok("sweep") => {
+                    KineticBroadPhase::default().with_structure(kinetic_flight::Choice::Sweep)
+                }
+                Ok("guards") => {
+                    KineticBroadPhase::default().with_structure(kinetic_flight::Choice::Guards)
+                }
+                _ => KineticBroadPhase::default(),
+            };
             let k = run(make(n), &mut kbp, steps);
             let s = kbp.stats();
             for (label, r, extra) in [
@@ -109,10 +120,15 @@ fn main() {
                     "kinetic",
                     &k,
                     format!(
-                        "{}, {:.0}, {:.1}",
+                        "{}, {:.0}, {:.1}{}",
                         kbp.structure_name(),
                         s.events as f64 / s.steps as f64,
-                        s.replans as f64 / s.steps as f64
+                        s.replans as f64 / s.steps as f64,
+                        if std::env::var_os("KINETIC_COUNTERS").is_some() {
+                            format!(" {:?}", kbp.structure_counters())
+                        } else {
+                            String::new()
+                        }
                     ),
                 ),
             ] {
