@@ -727,9 +727,16 @@ impl BroadPhase for KineticBroadPhase {
                 if m.seen.wrapping_add(1) == update {
                     let a = (v - m.last_v) / dt;
                     if let Some(prev) = m.last_a {
-                        let tol = 1e-3 * a.length().max(prev.length()) + 1e-3;
-                        if (a - prev).length() <= tol {
+                        let agree = |x: Vec3, y: Vec3| {
+                            (x - y).length() <= 1e-3 * x.length().max(y.length()) + 1e-3
+                        };
+                        if agree(a, prev) {
                             m.steady_a = a;
+                        } else if !agree(a, m.steady_a) && !agree(prev, m.steady_a) {
+                            // Two updates running off the steady acceleration: contact forces
+                            // (a body resting on others, a pile settling). Plan it coasting,
+                            // which a supported body keeps far longer than free fall.
+                            m.steady_a = Vec3::ZERO;
                         }
                     }
                     m.last_a = Some(a);
