@@ -677,6 +677,9 @@ impl CandidateStructure for Grid {
         if new.level != self.member(id).level {
             // A new box size: placed afresh.
             self.unplace(id, changes);
+            // Out of the members while its new level fills, or it would visit there itself.
+            let pairs = self.members[id as usize].take().expect("a member").pairs;
+            debug_assert!(pairs.is_empty(), "unplaced with pairs left");
             self.occupy(new.level, now, changes);
             self.members[id as usize] = Some(new);
             self.place(id, now, changes);

@@ -1,0 +1,222 @@
+//! The grid on its own, driven event by event with its audit after each: its candidates
+//! against a brute force over box pairs at sampled times, with sparse levels (wider cells),
+//! fast and accelerated bodies crossing many cells, re-plans, a re-plan that moves a body
+//! to another level, and removals.
+
+use kinetic_core::{Bodies, Body, CandidateStructure, FlightPlan, PairChange, Quat, Shape, Vec3};
+use kinetic_flight::{ConvexShape, Grid};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::collections::{BTreeMap, BTreeSet};
+
+/// The grid with the candidate set its changes describe.
+struct Driven {
+    grid: Grid,
+    count: BTreeMap<(u32, u32), i32>,
+    changes: Vec<PairChange>,
+}
+
+impl Driven {
+    fn new() -> Driven {
+        Driven {
+            grid: Grid::new(),
+            count: BTreeMap::new(),
+            changes: Vec::new(),
+        }
+    }
+
+    fn absorb(&mut self) {
+        for c in self.changes.drain(..) {
+            assert!(c.a < c.b, "pair {c:?} out of order");
+            let n = self.count.entry((c.a, c.b)).or_default();
+            *n += c.delta;
+            assert!(*n == 0 || *n == 1, "pair ({}, {}) counted {n}", c.a, c.b);
+        }
+        self.count.retain(|_, n| *n > 0);
+    }
+
+    fn candidates(&self) -> BTreeSet<(u32, u32)> {
+        self.count.keys().copied().collect()
+    }
+
+    /// Runs the grid's events up to `t`, auditing after each.
+    fn advance(&mut self, bodies: &Bodies, t: f64) -> usize {
+        let mut events = 0;
+        while self.grid.next_event_time() <= t {
+            let at = self.grid.next_event_time();
+            self.grid.process_next_event(bodies, &mut self.changes);
+            self.absorb();
+            events += 1;
+            self.grid
+                .validate(bodies, at)
+                .unwrap_or_else(|e| panic!("after an event at {at}: {e}"));
+        }
+        events
+    }
+}
+
+/// A ball's box at `t`, as the structures make it (inflated by 1e-9 of the radius).
+fn ball_box(body: &Body, t: f64) -> (Vec3, Vec3) {
+    let r = body.shape.outer_radius() * (1.0 + 1e-9);
+    let c = body.plan.position_at(t);
+    (c - Vec3::splat(r), c + Vec3::splat(r))
+}
+
+/// Every pair of balls whose boxes overlap at `t` by more than `margin` on every axis (must
+/// be candidates), and every pair within `margin` (may be).
+fn overlapping(bodies: &Bodies, t: f64, margin: f64) -> BTreeSet<(u32, u32)> {
+    let mut out = BTreeSet::new();
+    for (i, a) in bodies.iter().enumerate() {
+        let Some(a) = a else { continue };
+        for (j, b) in bodies.iter().enumerate().skip(i + 1) {
+            let Some(b) = b else { continue };
+            let ((alo, ahi), (blo, bhi)) = (ball_box(a, t), ball_box(b, t));
+            if (0..3).all(|k| alo[k] <= bhi[k] - margin && blo[k] <= ahi[k] - margin) {
+                out.insert((i as u32, j as u32));
+            }
+        }
+    }
+    out
+}
+
+fn check_against_boxes(d: &Driven, bodies: &Bodies, t: f64) {
+    let have = d.candidates();
+    let must = overlapping(bodies, t, 1e-9);
+    let may = overlapping(bodies, t, -1e-5);
+    if let Some(missing) = must.difference(&have).next() {
+        panic!("t = {t}: pair {missing:?} overlaps but is not a candidate");
+    }
+    if let Some(extra) = have.difference(&may).next() {
+        panic!("t = {t}: pair {extra:?} is a candidate but its boxes are apart");
+    }
+}
+
+#[test]
+fn sparse_small_balls_and_a_few_large_ones_match_the_box_pairs_through_replans_and_removals() {
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let mut bodies: Vec<Option<Body>> = Vec::new();
+    // 300 small balls spread thin (their level's cells are widened), 8 large ones, a few fast
+    // accelerated ones that cross many cells.
+    for k in 0..320 {
+        let r = if k < 300 {
+            rng.random_range(0.05..0.1)
+        } else if k < 308 {
+            rng.random_range(2.0..4.0)
+        } else {
+            rng.random_range(0.2..0.3)
+        };
+        let p = Vec3::new(
+            rng.random_range(-20.0..20.0),
+            rng.random_range(-20.0..20.0),
+            rng.random_range(-20.0..20.0),
+        );
+        let v = Vec3::new(
+            rng.random_range(-3.0..3.0),
+            rng.random_range(-3.0..3.0),
+            rng.random_range(-3.0..3.0),
+        );
+        let a = if k >= 308 {
+            Vec3::new(0.0, -9.81, 1.0)
+        } else {
+            Vec3::ZERO
+        };
+        bodies.push(Some(Body {
+            shape: Shape::Ball { radius: r },
+            plan: FlightPlan::accelerated(p, v * if k >= 308 { 5.0 } else { 1.0 }, a),
+        }));
+    }
+    let mut d = Driven::new();
+    let ids: Vec<u32> = (0..bodies.len() as u32).collect();
+    d.grid.insert_many(&ids, &bodies, 0.0, &mut d.changes);
+    d.absorb();
+    d.grid.validate(&bodies, 0.0).unwrap();
+    check_against_boxes(&d, &bodies, 0.0);
+    let mut events = 0;
+    for step in 1..=40 {
+        let t = step as f64 * 0.05;
+        events += d.advance(&bodies, t);
+        check_against_boxes(&d, &bodies, t);
+        // Every few steps: turn some balls around (re-plans) and drop one.
+        if step % 5 == 0 {
+            for _ in 0..10 {
+                let id = rng.random_range(0..bodies.len());
+                let Some(body) = bodies[id].as_mut() else {
+                    continue;
+                };
+                let v = Vec3::new(
+                    rng.random_range(-3.0..3.0),
+                    rng.random_range(-3.0..3.0),
+                    rng.random_range(-3.0..3.0),
+                );
+                body.plan = body.plan.replanned(t, v);
+                d.grid.replan(id as u32, &bodies, t, &mut d.changes);
+                d.absorb();
+                d.grid.validate(&bodies, t).unwrap();
+            }
+            let gone = rng.random_range(0..bodies.len());
+            if bodies[gone].is_some() {
+                d.grid.remove(gone as u32, &bodies, t, &mut d.changes);
+                d.absorb();
+                bodies[gone] = None;
+                d.grid.validate(&bodies, t).unwrap();
+            }
+            check_against_boxes(&d, &bodies, t);
+        }
+    }
+    let counters: BTreeMap<&str, f64> = d.grid.counters().into_iter().collect();
+    assert!(counters["crossings"] > 1000.0, "{counters:?}");
+    assert!(counters["box_events"] > 50.0, "{counters:?}");
+    assert!(counters["levels"] >= 3.0, "{counters:?}");
+    assert!(events > 1000, "{events}");
+}
+
+#[test]
+fn a_replan_that_starts_a_spin_moves_a_cuboid_to_a_larger_level() {
+    // A cube at rest keeps its own box (2 wide); spinning, it needs its outer ball's (3.46
+    // wide): another level, so it is placed afresh.
+    let slab = ConvexShape::cuboid(Vec3::splat(1.0)).unwrap().into_shape();
+    let mut bodies: Vec<Option<Body>> = vec![
+        Some(Body {
+            shape: slab,
+            plan: FlightPlan::at_rest(Vec3::ZERO),
+        }),
+        // Within the spinning slab's outer ball, outside its own box.
+        Some(Body {
+            shape: Shape::Ball { radius: 0.1 },
+            plan: FlightPlan::at_rest(Vec3::new(0.0, 1.5, 0.0)),
+        }),
+        Some(Body {
+            shape: Shape::Ball { radius: 0.1 },
+            plan: FlightPlan::linear(Vec3::new(5.0, 0.0, 0.0), Vec3::new(-1.0, 0.0, 0.0)),
+        }),
+    ];
+    let mut d = Driven::new();
+    d.grid.insert_many(&[0, 1, 2], &bodies, 0.0, &mut d.changes);
+    d.absorb();
+    assert!(d.candidates().is_empty(), "{:?}", d.candidates());
+    let levels = |d: &Driven| {
+        d.grid
+            .counters()
+            .into_iter()
+            .find(|c| c.0 == "levels")
+            .unwrap()
+            .1
+    };
+    assert_eq!(levels(&d), 2.0);
+    // The moving ball's box reaches the cube's own box (x = 1) at t = 3.9.
+    d.advance(&bodies, 3.85);
+    assert!(d.candidates().is_empty());
+    d.advance(&bodies, 3.95);
+    assert_eq!(d.candidates(), BTreeSet::from([(0, 2)]));
+    // Start the spin: the box becomes the outer ball's and holds the resting ball too.
+    bodies[0].as_mut().unwrap().plan =
+        FlightPlan::at_rest(Vec3::ZERO).with_spin(Quat::IDENTITY, Vec3::new(0.0, 0.0, 1.0));
+    d.grid.replan(0, &bodies, 3.95, &mut d.changes);
+    d.absorb();
+    d.grid.validate(&bodies, 3.95).unwrap();
+    assert_eq!(levels(&d), 3.0);
+    assert_eq!(d.candidates(), BTreeSet::from([(0, 1), (0, 2)]));
+    d.advance(&bodies, 10.0);
+    // The moving ball has gone through and out the other side.
+    assert_eq!(d.candidates(), BTreeSet::from([(0, 1)]));
+}
