@@ -1,5 +1,5 @@
 //! Bench command for the free-flight structures: candidate pairs, certificates, events and
-//! wall time against n, sweep against guards against the brute force, for
+//! wall time against n, sweep against guards against the grid against the brute force, for
 //! - asteroid fields of mixed spinning balls, cuboids and hulls at scale factors 1, 100 and
 //!   1e4;
 //! - nests (the paper's Fig. 6): clusters of small balls under chains of ever larger balls
@@ -45,6 +45,7 @@ fn main() {
             for s in [
                 StructureName::Sweep,
                 StructureName::Guards,
+                StructureName::Grid,
                 StructureName::BruteForce,
             ] {
                 if s == StructureName::BruteForce && n > 1000 {
