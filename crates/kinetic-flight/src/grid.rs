@@ -19,10 +19,13 @@
 //!   certificate; the pair is a candidate while all three do. Boxes meet exactly when they
 //!   meet and part a hysteresis (`1e-6` of the smaller box) after they part.
 //!
-//! Cost: O(1) certificates per object and per grid pair; an event costs O(1) hash-map work
-//! and a queue update. The sweep's events are the swaps of three global orders, O(n^2) for
-//! a crowd that passes another; the grid's are the cell crossings and the box events of
-//! neighbours, O(n) per unit of distance travelled.
+//! - Sparse levels: a level first filled by at least 32 objects at once gets cells widened by
+//!   a power of two (at most 64x) to about one of its objects per cell: fewer crossings.
+//!
+//! Cost: a footprint (12 certificates) per object and occupied level at or above its own,
+//! three certificates per grid pair; an event costs O(1) hash-map work and a queue update.
+//! The sweep's events are the swaps of three global orders, O(n^2) for a crowd that passes
+//! another; the grid's are the cell crossings and the box events of neighbours.
 
 use crate::sweep::{Ends, box_ends};
 use kinetic_core::roots::roots_after_zero;

@@ -16,6 +16,9 @@
 //!   larger object whose box holds one of its guards, unless a closer object in the same cone
 //!   ([`ConeSet`], Lemma 9) proves the guard is not inside it. Candidates stay proportional to
 //!   n however sizes differ, where the sweep's grow with every nested box.
+//! - [`Grid`] (not in the paper): the sweep's candidates, found among the objects that share
+//!   a cell of a hierarchical kinetic grid (one level per box size), so that its events are
+//!   cell crossings and box events of neighbours instead of swaps of global orders.
 //! - [`choose`]: the sweep when inner radii differ by at most [`SIGMA_MAX`], guards otherwise.
 //!
 //! ```
