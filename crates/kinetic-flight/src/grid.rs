@@ -565,34 +565,21 @@ impl Grid {
         let mut track = m.tracks[ti].clone();
         let [a, b] = track.cells[k];
         let mut keys = Vec::new();
-        match kind {
-            0 => {
-                track.cells[k][0] = a - 1;
-                Self::cells_of(&track, Some((k, a - 1)), &mut keys);
-                for &key in &keys {
-                    self.enter(id, key, owner, now, changes);
-                }
-            }
-            1 => {
-                Self::cells_of(&track, Some((k, a)), &mut keys);
-                track.cells[k][0] = a + 1;
-                for &key in &keys {
-                    self.leave(id, key, owner, changes);
-                }
-            }
-            2 => {
-                track.cells[k][1] = b + 1;
-                Self::cells_of(&track, Some((k, b + 1)), &mut keys);
-                for &key in &keys {
-                    self.enter(id, key, owner, now, changes);
-                }
-            }
-            _ => {
-                Self::cells_of(&track, Some((k, b)), &mut keys);
-                track.cells[k][1] = b - 1;
-                for &key in &keys {
-                    self.leave(id, key, owner, changes);
-                }
+        // Which end of the range moves, the slab of cells entered or left, the new end.
+        let (end, slab, moved, entering) = match kind {
+            0 => (0, a - 1, a - 1, true),
+            1 => (0, a, a + 1, false),
+            2 => (1, b + 1, b + 1, true),
+            _ => (1, b, b - 1, false),
+        };
+        track.cells[k][end] = moved;
+        // The slab spans the other axes' ranges, which this event leaves as they are.
+        Self::cells_of(&track, Some((k, slab)), &mut keys);
+        for &key in &keys {
+            if entering {
+                self.enter(id, key, owner, now, changes);
+            } else {
+                self.leave(id, key, owner, changes);
             }
         }
         self.certify_axis(self.member(id), &mut track, k, now);

@@ -5,6 +5,7 @@
 //! `cargo bench -p kinetic-rapier --bench rapier -- [N...] [--steps S]` (default N = 1000
 //! 10000 50000, S = 120). Prints a markdown table.
 
+use kinetic_flight::Choice;
 use kinetic_rapier::KineticBroadPhase;
 use kinetic_rapier::scenes::{RapierScene, debris, rain};
 use rapier3d::prelude::*;
@@ -101,15 +102,9 @@ fn main() {
         for (name, make) in scenes {
             let d = run(make(n), &mut DefaultBroadPhase::new(), steps);
             let mut kbp = match std::env::var("KINETIC_STRUCTURE").as_deref() {
-                Ok("grid") => {
-                    KineticBroadPhase::default().with_structure(kinetic_flight::Choice::Grid)
-                }
-                Ok("sweep") => {
-                    KineticBroadPhase::default().with_structure(kinetic_flight::Choice::Sweep)
-                }
-                Ok("guards") => {
-                    KineticBroadPhase::default().with_structure(kinetic_flight::Choice::Guards)
-                }
+                Ok("grid") => KineticBroadPhase::default().with_structure(Choice::Grid),
+                Ok("sweep") => KineticBroadPhase::default().with_structure(Choice::Sweep),
+                Ok("guards") => KineticBroadPhase::default().with_structure(Choice::Guards),
                 _ => KineticBroadPhase::default(),
             };
             let k = run(make(n), &mut kbp, steps);

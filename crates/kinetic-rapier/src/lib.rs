@@ -335,12 +335,6 @@ impl KineticBroadPhase {
         }
     }
 
-    /// The structure: the caller's, or the grid, which sorts the colliders into levels by
-    /// size and won every scene of the benchmark (see the crate's README).
-    fn choose(&self) -> Choice {
-        self.choice.unwrap_or(Choice::Grid)
-    }
-
     /// Drops collider `h` and its pairs without events (it was removed or disabled: rapier's
     /// narrow phase drops its pairs itself).
     fn remove_collider(&mut self, h: ColliderHandle) {
@@ -403,7 +397,8 @@ impl KineticBroadPhase {
         self.step.inserts += 1;
     }
 
-    /// The structure in use (the grid before there is one).
+    /// The structure: the caller's, or the grid, which sorts the colliders into levels by
+    /// size and won every scene of the benchmark (see the crate's README).
     fn structure_choice(&self) -> Choice {
         self.choice.unwrap_or(Choice::Grid)
     }
@@ -476,7 +471,7 @@ impl KineticBroadPhase {
             });
         }
         if self.structure.is_none() {
-            let choice = self.choose();
+            let choice = self.structure_choice();
             self.choice = Some(choice);
             self.structure = Some(match choice {
                 Choice::Sweep => Box::new(Sweep::new()),
