@@ -50,10 +50,15 @@
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
+pub mod chart;
+pub mod compare;
+pub mod families;
 pub mod frames;
+pub mod rapier_run;
 pub mod run;
 pub mod scene;
 pub mod scenes;
+pub mod stepped;
 
 pub use kinetic_core::*;
 pub use kinetic_flight::{ConvexShape, Guards, ShapeError, Sweep, fatness};

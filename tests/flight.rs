@@ -364,3 +364,26 @@ fn elastic_gas_with_walls_gives_the_brute_force_log_with_every_structure() {
         }
     }
 }
+
+#[test]
+fn large_spinning_polytopes_touch_without_chatter() {
+    // The asteroid family's boxes and hulls reach 500 units across at coordinates near 1e4;
+    // there parry's GJK calls pairs within about 1e-6 "intersecting" when they are apart,
+    // which once made contact ends chatter (begin/end flips 1e-9 s apart). Every pair's
+    // contacts must now alternate cleanly, as in the brute force, for every structure.
+    let scene = kinetic_collide::families::Family::Asteroids.scene(300, 1);
+    let reference = run_audited(&scene, StructureName::BruteForce);
+    for (pair, events) in by_pair(&reference) {
+        for w in events.windows(2) {
+            let same_instant_graze = w[0].0 == ContactKind::Begin && w[1].1 == w[0].1;
+            assert!(
+                same_instant_graze || w[1].1 - w[0].1 > 1e-6,
+                "pair {pair:?} flips within 1e-6: {events:?}"
+            );
+        }
+    }
+    assert!(reference.len() > 30, "{}", reference.len());
+    for structure in FREE {
+        assert_same_contacts(&reference, &run_audited(&scene, structure), "asteroids");
+    }
+}

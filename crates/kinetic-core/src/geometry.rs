@@ -59,6 +59,18 @@ pub trait ConvexGeometry: std::fmt::Debug + Send + Sync {
     fn as_any(&self) -> &dyn Any;
 }
 
+/// The signed distance between two posed shapes: the gap when apart, zero when touching,
+/// negative (at most the penetration depth in size) when they overlap.
+pub fn signed_distance(a: &Shape, pose_a: &Pose, b: &Shape, pose_b: &Pose) -> Real {
+    match (a, b) {
+        (Shape::Convex(g), other) => g.signed_distance(pose_a, other, pose_b),
+        (ball, Shape::Convex(g)) => g.signed_distance(pose_b, ball, pose_a),
+        (Shape::Ball { radius: ra }, Shape::Ball { radius: rb }) => {
+            (pose_a.translation - pose_b.translation).length() - ra - rb
+        }
+    }
+}
+
 /// What a contact search found.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Found {
@@ -86,13 +98,7 @@ impl Mover<'_> {
     /// The signed distance at time `t`.
     pub(crate) fn signed_distance(&self, t: Real) -> Real {
         let (pa, pb) = (Pose::of_plan(self.plan_a, t), Pose::of_plan(self.plan_b, t));
-        match (self.shape_a, self.shape_b) {
-            (Shape::Convex(g), other) => g.signed_distance(&pa, other, &pb),
-            (ball, Shape::Convex(g)) => g.signed_distance(&pb, ball, &pa),
-            (Shape::Ball { radius: ra }, Shape::Ball { radius: rb }) => {
-                (pa.translation - pb.translation).length() - ra - rb
-            }
-        }
+        signed_distance(self.shape_a, &pa, self.shape_b, &pb)
     }
 
     /// How fast the signed distance can change at `t` (every point of either object moves at

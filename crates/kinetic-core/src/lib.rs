@@ -34,7 +34,7 @@ mod world;
 
 pub use brute_force::BruteForce;
 pub use certificates::{OrderCertificate, ScalarKey};
-pub use geometry::{ConvexGeometry, Pose};
+pub use geometry::{ConvexGeometry, Pose, signed_distance};
 pub use math::{Quat, Real, Vec3};
 pub use plan::FlightPlan;
 pub use poly::{Poly, sign};

@@ -37,6 +37,16 @@ pub struct ConvexShape {
     geometry: Geometry,
     outer: Real,
     inner: Real,
+    features: Features,
+}
+
+/// A polytope's vertices, face normals and edge directions in its own frame: what the
+/// separating-axis test needs.
+#[derive(Debug)]
+struct Features {
+    points: Vec<Vec3>,
+    normals: Vec<Vec3>,
+    edges: Vec<Vec3>,
 }
 
 #[derive(Debug)]
@@ -54,10 +64,22 @@ impl ConvexShape {
                 return Err(ShapeError::BadSize(h));
             }
         }
+        let h = half_extents;
+        let points = (0..8)
+            .map(|k| {
+                let s = |bit: u32| if k & bit == 0 { -1.0 } else { 1.0 };
+                Vec3::new(s(1) * h.x, s(2) * h.y, s(4) * h.z)
+            })
+            .collect();
         Ok(ConvexShape {
             geometry: Geometry::Cuboid(Cuboid::new(half_extents)),
             outer: half_extents.length(),
             inner: half_extents.min_element(),
+            features: Features {
+                points,
+                normals: vec![Vec3::X, Vec3::Y, Vec3::Z],
+                edges: vec![Vec3::X, Vec3::Y, Vec3::Z],
+            },
         })
     }
 
@@ -88,10 +110,23 @@ impl ConvexShape {
         } else {
             0.0
         };
+        let mut edges: Vec<Vec3> = Vec::new();
+        for e in hull.edges() {
+            // One direction per family of parallel edges.
+            if !edges.iter().any(|d| d.cross(e.dir).length() < 1e-12) {
+                edges.push(e.dir);
+            }
+        }
+        let features = Features {
+            points: hull.points().to_vec(),
+            normals: hull.faces().iter().map(|f| f.normal).collect(),
+            edges,
+        };
         Ok(ConvexShape {
             geometry: Geometry::Hull(hull),
             outer,
             inner,
+            features,
         })
     }
 
@@ -157,6 +192,44 @@ pub fn fatness(shape: &Shape) -> Real {
     }
 }
 
+/// The separating-axis value of two posed polytopes: the largest gap between their
+/// projections over the face normals of both and the cross products of their edges. Positive
+/// exactly when they are apart (then at most their distance), otherwise minus the least depth
+/// that separates them along one of those axes. Computed about `pa`'s centre.
+fn separating_axes(a: &Features, pa: &Pose, b: &Features, pb: &Pose) -> Real {
+    let offset = pb.translation - pa.translation;
+    let pts_a: Vec<Vec3> = a.points.iter().map(|p| pa.rotation * *p).collect();
+    let pts_b: Vec<Vec3> = b.points.iter().map(|p| pb.rotation * *p + offset).collect();
+    let span = |pts: &[Vec3], n: Vec3| {
+        pts.iter()
+            .map(|p| p.dot(n))
+            .fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), x| {
+                (lo.min(x), hi.max(x))
+            })
+    };
+    let gap = |n: Vec3| {
+        let ((a0, a1), (b0, b1)) = (span(&pts_a, n), span(&pts_b, n));
+        (b0 - a1).max(a0 - b1)
+    };
+    let normals_a = a.normals.iter().map(|n| pa.rotation * *n);
+    let normals_b = b.normals.iter().map(|n| pb.rotation * *n);
+    let mut best = normals_a
+        .chain(normals_b)
+        .map(gap)
+        .fold(Real::NEG_INFINITY, Real::max);
+    for ea in &a.edges {
+        let ea = pa.rotation * *ea;
+        for eb in &b.edges {
+            let c = ea.cross(pb.rotation * *eb);
+            let len = c.length();
+            if len > 1e-9 {
+                best = best.max(gap(c / len));
+            }
+        }
+    }
+    best
+}
+
 fn parry_pose(p: &Pose) -> ParryPose {
     ParryPose::from_parts(p.translation, p.rotation)
 }
@@ -204,6 +277,16 @@ impl ConvexGeometry for ConvexShape {
         match query::contact(&p1, self.parry(), &p2, g2, Real::MAX) {
             Ok(Some(c)) => c.dist,
             // The penetration query gave up (degenerate overlap): overlapping, depth unknown.
+            // GJK found the pair within its tolerance of touching and EPA found no
+            // penetration: the shapes are within rounding of each other, where GJK's verdict
+            // can flip from one instant to the next. Two polytopes get the separating-axis
+            // test, computed about this shape's centre: its sign is exact up to rounding of
+            // the shapes' own size, and its magnitude is the gap (apart) or the depth.
+            _ if let Shape::Convex(g) = other
+                && let Some(o) = g.as_any().downcast_ref::<ConvexShape>() =>
+            {
+                separating_axes(&self.features, pose, &o.features, other_pose)
+            }
             _ => {
                 if query::intersection_test(&p1, self.parry(), &p2, g2)
                     .map_or(true, |i| i.intersecting)
