@@ -35,7 +35,7 @@ fn font() -> Result<(), String> {
 }
 
 /// Errors below this are drawn on the axis floor (kinetic structures are exact: 0).
-const ERROR_FLOOR: f64 = 1e-9;
+const ERROR_FLOOR: f64 = 1e-10;
 
 /// The colour of a method.
 fn colour(method: &str) -> RGBColor {
@@ -45,6 +45,9 @@ fn colour(method: &str) -> RGBColor {
         "rapier+ccd" => RGBColor(255, 127, 14),
         "rapier+kinetic" => RGBColor(44, 160, 44),
         "brute-force" => RGBColor(90, 90, 90),
+        "guards" => RGBColor(140, 86, 75),
+        "grid" => RGBColor(227, 119, 194),
+        "rolling-global-lists" => RGBColor(188, 189, 34),
         _ => RGBColor(148, 103, 189),
     }
 }
@@ -81,6 +84,15 @@ pub fn draw(rows: &[Row], path: &Path) -> Result<(), String> {
     Frame::new(w, h, rgba)
         .save_png(path)
         .map_err(|e| e.to_string())
+}
+
+/// An axis label: plain for tenths, powers of ten otherwise.
+fn short(x: f64) -> String {
+    if x == 0.0 || (x.abs() >= 0.1 && x.abs() <= 1.0) {
+        format!("{x:.1}")
+    } else {
+        format!("{x:.0e}")
+    }
 }
 
 #[derive(Clone, Copy, PartialEq)]
@@ -128,6 +140,8 @@ fn panel(
                 .x_desc($xdesc)
                 .y_desc("wall time (s)")
                 .label_style(("sans-serif", 13))
+                .x_label_formatter(&|x: &f64| short(*x))
+                .y_label_formatter(&|y: &f64| short(*y))
                 .draw()?;
             for r in rows {
                 let x = x_of(r);
@@ -136,30 +150,31 @@ fn panel(
                 }
                 let c = colour(r.method);
                 let p = (x, r.wall_seconds.max(1e-5));
-                let series = chart.draw_series(std::iter::once(Circle::new(p, 5, c.filled())))?;
-                if legend_done.insert(r.method) {
-                    series
-                        .label(r.method)
-                        .legend(move |(x, y)| Circle::new((x, y), 5, c.filled()));
-                }
                 let label = if r.step == "exact" {
                     r.method.to_string()
                 } else {
                     r.step.clone()
                 };
-                chart.draw_series(std::iter::once(Text::new(
-                    label,
-                    p,
-                    ("sans-serif", 12).into_font().color(&c),
-                )))?;
+                let font = ("sans-serif", 12).into_font().color(&c);
+                let point = EmptyElement::at(p)
+                    + Circle::new((0, 0), 5, c.filled())
+                    + Text::new(label, (7, -4), font);
+                let series = chart.draw_series(std::iter::once(point))?;
+                if axis == Axis::Missed && legend_done.insert(r.method) {
+                    series
+                        .label(r.method)
+                        .legend(move |(x, y)| Circle::new((x, y), 5, c.filled()));
+                }
             }
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .label_font(("sans-serif", 13))
-                .position(SeriesLabelPosition::UpperRight)
-                .draw()?;
+            if axis == Axis::Missed {
+                chart
+                    .configure_series_labels()
+                    .background_style(WHITE.mix(0.85))
+                    .border_style(BLACK)
+                    .label_font(("sans-serif", 13))
+                    .position(SeriesLabelPosition::UpperMiddle)
+                    .draw()?;
+            }
         }};
     }
     match axis {

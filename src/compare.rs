@@ -7,7 +7,7 @@
 //! exact one is a *false contact*. The time error of a found contact is how far its begin is
 //! from the exact one.
 
-use crate::families::Family;
+use crate::families::{Case, Family};
 use crate::rapier_run::{Broad, run_rapier};
 use crate::run::{RunError, StructureName, run_scene};
 use crate::scene::Scene;
@@ -279,7 +279,14 @@ impl NamedScene {
             Some((name, size)) => (name, Some(size)),
             None => (arg, None),
         };
-        if let Some(family) = Family::parse(name).filter(|_| !std::path::Path::new(arg).exists()) {
+        let is_file = std::path::Path::new(arg).exists();
+        if let Some(case) = Case::parse(arg).filter(|_| !is_file) {
+            return Ok(NamedScene {
+                name: arg.to_string(),
+                scene: case.scene(),
+            });
+        }
+        if let Some(family) = Family::parse(name).filter(|_| !is_file) {
             let n = match size {
                 None => family.default_size(),
                 Some(s) => s
@@ -296,9 +303,11 @@ impl NamedScene {
         let path = std::path::Path::new(arg);
         let text = std::fs::read_to_string(path).map_err(|e| {
             let families: Vec<&str> = Family::ALL.iter().map(|f| f.name()).collect();
+            let cases: Vec<&str> = Case::ALL.iter().map(|c| c.name()).collect();
             format!(
-                "{arg}: not a scene file ({e}) nor a family ({})",
-                families.join(", ")
+                "{arg}: not a scene file ({e}), a family ({}) or a stability case ({})",
+                families.join(", "),
+                cases.join(", ")
             )
         })?;
         let scene = Scene::from_json(&text).map_err(|e| format!("{arg}: {e}"))?;

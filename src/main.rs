@@ -55,8 +55,9 @@ enum Command {
     /// the exact log: wall time, contacts missed, contact-time error, false contacts. Prints a
     /// Markdown table and writes compare.csv and compare.png.
     Compare {
-        /// Scene files, or built-in families: marbles, gas, asteroids, bullets, pile (NAME or
-        /// NAME:OBJECTS). Default: every family.
+        /// Scene files, built-in families (marbles, gas, asteroids, bullets, pile; NAME or
+        /// NAME:OBJECTS) or stability cases (lattice, grazes, start-in-contact, offset-1e6,
+        /// offset-1e9, radii-1e-6-1e6, speed-1e6, zeno). Default: every family.
         scenes: Vec<String>,
         /// Where the CSV and the chart go.
         #[arg(long, value_name = "DIR", default_value = "out/compare")]

@@ -213,10 +213,10 @@ impl EventHandler for Collector {
         event: CollisionEvent,
         _contact_pair: Option<&ContactPair>,
     ) {
-        if let CollisionEvent::Started(h1, h2, _) = event {
-            if let Ok(mut v) = self.0.lock() {
-                v.push((h1, h2));
-            }
+        if let CollisionEvent::Started(h1, h2, _) = event
+            && let Ok(mut v) = self.0.lock()
+        {
+            v.push((h1, h2));
         }
     }
 

@@ -512,12 +512,37 @@ impl World {
     /// A number that is negative when the pair overlaps now, positive when apart (for balls
     /// the gap polynomial's value, for shapes the signed distance), and the slack within which
     /// the audit lets rounding disagree with a pair's state.
+    ///
+    /// The slack covers the roundings: of the sizes (1e-9 of the larger), of positions far
+    /// from the origin (a few ulps of the coordinates), of event times (1e-12 of the time,
+    /// over which fast objects move: a contact time that good puts a pair at speed 1e6 a
+    /// distance 1e-6 off), and for balls of the gap polynomial's terms.
     pub(crate) fn separation(&self, a: u32, b: u32) -> (Real, Real) {
         let scale = self.radius(a).max(self.radius(b));
+        let (pa, pb) = (self.plan_of(a), self.plan_of(b));
+        let far = pa.position_at(self.now).abs().max_element()
+            + pb.position_at(self.now).abs().max_element();
+        let speed = (pa.velocity_at(self.now) - pb.velocity_at(self.now)).length()
+            + pa.angular_velocity.length() * self.radius(a)
+            + pb.angular_velocity.length() * self.radius(b);
+        let off = 8.0 * Real::EPSILON * far + 1e-12 * self.now.abs().max(1.0) * speed;
         if self.balls(a, b) {
-            (self.gap(a, b).c[0], 1e-9 * scale * scale)
+            // The gap polynomial may be expanded about an earlier time: its terms are as
+            // large as the square of how far the pair moved apart since then.
+            let reach = self.radius(a) + self.radius(b);
+            let moved = (pa.position_at(self.now) - pb.position_at(self.now)).length()
+                + speed * self.now.abs()
+                + (pa.acceleration - pb.acceleration).length() * self.now * self.now;
+            let terms = 4.0 * Real::EPSILON * moved * moved;
+            (
+                self.gap(a, b).c[0],
+                1e-9 * scale * scale + 2.0 * reach * off + terms,
+            )
         } else {
-            (self.mover(a, b).signed_distance(self.now), 1e-9 * scale)
+            (
+                self.mover(a, b).signed_distance(self.now),
+                1e-9 * scale + off,
+            )
         }
     }
 
