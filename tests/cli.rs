@@ -437,3 +437,59 @@ fn plane_scenes_run_on_the_rolling_tree_and_match_the_brute_force() {
         assert_eq!(events.unwrap(), chosen, "{name}");
     }
 }
+
+#[test]
+fn compare_scores_every_method_and_writes_csv_and_chart() {
+    let dir = temp_dir("compare");
+    // A bullets scene file beside two built-in families at small sizes.
+    let scene = kinetic_collide::families::Family::Bullets.scene(20, 2);
+    let file = dir.join("bullets.json");
+    std::fs::write(&file, scene.to_json()).unwrap();
+    let out = tool()
+        .arg("compare")
+        .arg(&file)
+        .args(["gas:30", "marbles:30", "--out"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    let table = String::from_utf8_lossy(&out.stdout);
+    let csv = std::fs::read_to_string(dir.join("compare.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    // Free scenes: sweep, guards, grid, brute force + 5 steps x (stepped, 3 rapier variants);
+    // the plane scene: two rolling structures + brute force + the same 20.
+    assert_eq!(rows.len(), 24 + 24 + 23, "{csv}");
+    assert!(csv.starts_with("scene,objects,method,step,wall_seconds,contacts,missed"));
+    for r in &rows {
+        // Kinetic rows (step "exact") miss nothing and report nothing false.
+        if r[3] == "exact" {
+            assert_eq!((r[6], r[10]), ("0", "0"), "{r:?}");
+        }
+    }
+    // The bullets tunnel through the plates at 1/60 without CCD; rapier's CCD sees them.
+    let missed = |method: &str, step: &str| -> usize {
+        let r = rows
+            .iter()
+            .find(|r| r[0] == "bullets" && r[2] == method && r[3] == step)
+            .unwrap();
+        r[6].parse().unwrap()
+    };
+    assert!(missed("stepped", "1/60") > 0);
+    assert!(missed("rapier", "1/60") > 0);
+    assert_eq!(missed("rapier+ccd", "1/60"), 0);
+    assert!(
+        table.contains("| bullets (28) | sweep | exact |"),
+        "{table}"
+    );
+    let png = std::fs::read(dir.join("compare.png")).unwrap();
+    assert_eq!(&png[1..4], b"PNG");
+    // A name that is neither a file, a family nor a case: status 2, naming it.
+    let bad = tool().args(["compare", "plasma"]).output().unwrap();
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("plasma"));
+}
