@@ -4,59 +4,13 @@
 //! overlapping pair is missing) after every event.
 
 use glam::{DQuat, DVec3};
-use kinetic_collide::run::{StructureName, build_world, run_scene};
+use kinetic_collide::run::{StructureName, run_scene};
 use kinetic_collide::scene::{Scene, SceneObject, ShapeSpec};
 use kinetic_collide::scenes::{FlightScene, NestScene, ShapeMix};
-use kinetic_collide::{ContactEvent, ContactKind, Response, WorldKind};
-use std::collections::BTreeMap;
+use kinetic_collide::{ContactKind, Response, WorldKind};
 
-/// Runs `scene` with `structure`, auditing the world after every event.
-fn run_audited(scene: &Scene, structure: StructureName) -> Vec<ContactEvent> {
-    let (mut world, _) = build_world(scene, Some(structure)).unwrap();
-    world.validate().unwrap();
-    while world.step(scene.horizon).unwrap().is_some() {
-        world
-            .validate()
-            .unwrap_or_else(|e| panic!("{structure:?} at t = {}: {e}", world.now()));
-    }
-    world.advance_to(scene.horizon).unwrap();
-    world.drain_events()
-}
-
-/// The contacts of each pair, in order.
-fn by_pair(events: &[ContactEvent]) -> BTreeMap<(u32, u32), Vec<(ContactKind, f64)>> {
-    let mut out: BTreeMap<_, Vec<_>> = BTreeMap::new();
-    for e in events {
-        out.entry((e.a.0, e.b.0))
-            .or_default()
-            .push((e.kind, e.time));
-    }
-    out
-}
-
-/// Same pairs, same kinds in the same order per pair, times within 1e-7 relative.
-fn assert_same_contacts(reference: &[ContactEvent], got: &[ContactEvent], what: &str) {
-    let (r, g) = (by_pair(reference), by_pair(got));
-    for (pair, want) in &r {
-        let have = g
-            .get(pair)
-            .unwrap_or_else(|| panic!("{what}: pair {pair:?} missing: {want:?}"));
-        assert_eq!(
-            have.iter().map(|x| x.0).collect::<Vec<_>>(),
-            want.iter().map(|x| x.0).collect::<Vec<_>>(),
-            "{what}: pair {pair:?}: {have:?} vs {want:?}"
-        );
-        for (h, w) in have.iter().zip(want) {
-            assert!(
-                (h.1 - w.1).abs() <= 1e-7 * w.1.abs().max(1.0),
-                "{what}: pair {pair:?}: {have:?} vs {want:?}"
-            );
-        }
-    }
-    if let Some(extra) = g.keys().find(|p| !r.contains_key(p)) {
-        panic!("{what}: extra pair {extra:?}: {:?}", g[extra]);
-    }
-}
+mod common;
+use common::{assert_same_contacts, by_pair, run_audited};
 
 /// Runs `params` with the brute force and `structure`; returns the number of contacts.
 fn check(params: FlightScene, structure: StructureName) -> usize {

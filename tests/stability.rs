@@ -10,56 +10,21 @@ use kinetic_collide::scene::Scene;
 use kinetic_collide::stepped::run_stepped;
 use kinetic_collide::{BruteForce, ContactEvent, ContactKind, World, WorldError};
 
+mod common;
+use common::{assert_same_contacts, run_audited as audited};
+
 const FREE: [StructureName; 3] = [
     StructureName::Sweep,
     StructureName::Guards,
     StructureName::Grid,
 ];
 
-/// Runs `scene` with `structure`, auditing after every event.
-fn audited(scene: &Scene, structure: StructureName) -> Vec<ContactEvent> {
-    let (mut world, _) = build_world(scene, Some(structure)).unwrap();
-    world.validate().unwrap();
-    while world.step(scene.horizon).unwrap().is_some() {
-        world
-            .validate()
-            .unwrap_or_else(|e| panic!("{structure:?} at t = {}: {e}", world.now()));
-    }
-    world.advance_to(scene.horizon).unwrap();
-    world.drain_events()
-}
-
-/// Every structure gives the brute force's contacts: per pair the same kinds in the same
-/// order, times within the scene format's 1e-7 * max(1, |t|). Returns the brute force's log.
+/// Every structure gives the brute force's contacts (per pair the same kinds in the same
+/// order, times within the scene format's 1e-7 * max(1, |t|)); returns the brute force's log.
 fn same_log_everywhere(scene: &Scene) -> Vec<ContactEvent> {
     let reference = audited(scene, StructureName::BruteForce);
-    let by_pair = |log: &[ContactEvent]| {
-        let mut by: std::collections::BTreeMap<(u32, u32), Vec<(ContactKind, f64)>> =
-            Default::default();
-        for e in log {
-            by.entry((e.a.0, e.b.0)).or_default().push((e.kind, e.time));
-        }
-        by
-    };
-    let want = by_pair(&reference);
     for s in FREE {
-        let got = by_pair(&audited(scene, s));
-        assert_eq!(
-            got.keys().collect::<Vec<_>>(),
-            want.keys().collect::<Vec<_>>(),
-            "{s:?}: pairs"
-        );
-        for (pair, w) in &want {
-            let g = &got[pair];
-            assert_eq!(g.len(), w.len(), "{s:?} {pair:?}: {g:?} vs {w:?}");
-            for (x, y) in g.iter().zip(w) {
-                assert_eq!(x.0, y.0, "{s:?} {pair:?}: {g:?} vs {w:?}");
-                assert!(
-                    (x.1 - y.1).abs() <= 1e-7 * y.1.abs().max(1.0),
-                    "{s:?} {pair:?}"
-                );
-            }
-        }
+        assert_same_contacts(&reference, &audited(scene, s), &format!("{s:?}"));
     }
     reference
 }
