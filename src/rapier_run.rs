@@ -10,7 +10,7 @@
 
 use crate::scene::{Scene, ShapeSpec};
 use crate::stepped::log_changes;
-use kinetic_core::{ContactEvent, ContactKind, ObjectId, Real, WorldKind};
+use kinetic_core::{ContactEvent, ContactKind, ObjectId, Real};
 use kinetic_rapier::KineticBroadPhase;
 use rapier3d::prelude::*;
 use rustc_hash::FxHashSet;
@@ -57,18 +57,11 @@ pub fn run_rapier(
     let start = Instant::now();
     let mut bodies = RigidBodySet::new();
     let mut colliders = ColliderSet::new();
-    let plane = scene.world == WorldKind::Plane;
     for (index, o) in scene.objects.iter().enumerate() {
         let v32 = |v: glam::DVec3| vector![v.x as f32, v.y as f32, v.z as f32];
-        let (mut position, mut velocity, mut acceleration) =
-            (o.position, o.velocity, o.acceleration);
-        if plane {
-            let r = crate::scene::outer_radius(&o.shape);
-            position.z = r;
-            velocity.z = 0.0;
-            acceleration.z = 0.0;
-        }
-        let q = o.orientation;
+        let plan = o.centre_plan(scene.world);
+        let (position, velocity, acceleration) = (plan.position, plan.velocity, plan.acceleration);
+        let q = plan.orientation;
         let rotation = rapier3d::na::UnitQuaternion::from_quaternion(
             rapier3d::na::Quaternion::new(q.w as f32, q.x as f32, q.y as f32, q.z as f32),
         );
@@ -78,7 +71,7 @@ pub fn run_rapier(
                 rotation,
             ))
             .linvel(v32(velocity))
-            .angvel(v32(o.angular_velocity))
+            .angvel(v32(plan.angular_velocity))
             .can_sleep(false)
             .ccd_enabled(ccd)
             .build();

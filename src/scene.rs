@@ -60,6 +60,19 @@ impl SceneObject {
         FlightPlan::accelerated(self.position, self.velocity, self.acceleration)
             .with_spin(self.orientation, self.angular_velocity)
     }
+
+    /// The plan of its centre in 3-space: its plan in a free world; in a plane world the
+    /// rolling ball's centre, its radius above the tangency point, moving in x and y.
+    pub fn centre_plan(&self, world: WorldKind) -> FlightPlan {
+        match world {
+            WorldKind::Free => self.plan(),
+            WorldKind::Plane => FlightPlan::accelerated(
+                self.position.with_z(outer_radius(&self.shape)),
+                self.velocity.with_z(0.0),
+                self.acceleration.with_z(0.0),
+            ),
+        }
+    }
 }
 
 /// A scene: a world, a horizon, a response, optional walls and the objects.

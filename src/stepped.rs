@@ -7,8 +7,7 @@
 use crate::run::{RunError, shapes_of};
 use crate::scene::Scene;
 use kinetic_core::{
-    ContactEvent, ContactKind, FlightPlan, ObjectId, Pose, Real, Shape, Vec3, WorldKind,
-    signed_distance,
+    ContactEvent, ContactKind, FlightPlan, ObjectId, Pose, Real, Shape, Vec3, signed_distance,
 };
 use rustc_hash::FxHashSet;
 use std::time::Instant;
@@ -35,23 +34,10 @@ pub fn run_stepped(scene: &Scene, dt: Real) -> Result<SteppedOutput, RunError> {
     }
     let start = Instant::now();
     let shapes = shapes_of(scene)?;
-    let plane = scene.world == WorldKind::Plane;
     let plans: Vec<FlightPlan> = scene
         .objects
         .iter()
-        .zip(&shapes)
-        .map(|(o, s)| {
-            let mut plan = o.plan();
-            if plane {
-                // A rolling ball's centre is its radius above its tangency point.
-                plan = FlightPlan::accelerated(
-                    o.position.with_z(s.outer_radius()),
-                    o.velocity.with_z(0.0),
-                    o.acceleration.with_z(0.0),
-                );
-            }
-            plan
-        })
+        .map(|o| o.centre_plan(scene.world))
         .collect();
     let n = plans.len();
     let steps = (scene.horizon / dt).floor() as u64;
@@ -149,7 +135,7 @@ fn overlapping(a: &Shape, pa: &Pose, b: &Shape, pb: &Pose) -> bool {
 mod tests {
     use super::*;
     use crate::scene::SceneObject;
-    use kinetic_core::Response;
+    use kinetic_core::{Response, WorldKind};
 
     fn two_balls(speed: f64) -> Scene {
         Scene {
