@@ -54,6 +54,7 @@ pub mod chart;
 pub mod compare;
 pub mod families;
 pub mod frames;
+pub mod hard_spheres;
 pub mod rapier_run;
 pub mod run;
 pub mod scene;

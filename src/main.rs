@@ -2,6 +2,7 @@
 
 use clap::{Parser, Subcommand};
 use kinetic_collide::frames::{FrameSpec, Overlay, render_series, run_with_snapshots, write_run};
+use kinetic_collide::hard_spheres::HardSpheres;
 use kinetic_collide::run::{RunError, RunOutput, StructureName, write_whole};
 use kinetic_collide::scene::Scene;
 use kinetic_collide::scenes::BallScene;
@@ -63,6 +64,29 @@ enum Command {
         #[arg(long, value_name = "DIR", default_value = "out/compare")]
         out: PathBuf,
     },
+    /// Write a hard-sphere scene (DynamO's benchmark systems): a gas of equal spheres or a
+    /// binary mixture with equal volume fractions, inside walls, elastic, Maxwell-Boltzmann
+    /// velocities at kT = 1, large spheres of diameter and mass 1.
+    Generate {
+        /// Number of spheres.
+        #[arg(long, default_value_t = 4000)]
+        n: usize,
+        /// Small over large diameter, in (0, 1]; 1 gives the monodisperse gas.
+        #[arg(long, default_value_t = 1.0)]
+        ratio: f64,
+        /// Fraction of the box the spheres fill (at most 0.35).
+        #[arg(long, default_value_t = 0.26)]
+        packing: f64,
+        /// Horizon: about this many collisions (Enskog's rate).
+        #[arg(long, default_value_t = 1e6)]
+        collisions: f64,
+        /// Random seed.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Where to write the scene (default: standard output).
+        #[arg(long, short)]
+        out: Option<PathBuf>,
+    },
 }
 
 fn main() -> ExitCode {
@@ -76,6 +100,23 @@ fn main() -> ExitCode {
     let result = match cli.command {
         None => default_scene(),
         Some(Command::Compare { scenes, out }) => compare(&scenes, &out),
+        Some(Command::Generate {
+            n,
+            ratio,
+            packing,
+            collisions,
+            seed,
+            out,
+        }) => generate(
+            HardSpheres {
+                n,
+                ratio,
+                packing,
+                collisions,
+                seed,
+            },
+            out.as_deref(),
+        ),
         Some(Command::Run {
             scene,
             events,
@@ -252,6 +293,31 @@ fn compare(args: &[String], out: &Path) -> Result<(), Failure> {
     kinetic_collide::chart::draw(&rows, &out.join("compare.png"))
         .map_err(|e| (1, format!("chart not drawn: {e} (the CSV was written)")))?;
     eprintln!("wrote {0}/compare.csv and {0}/compare.png", out.display());
+    Ok(())
+}
+
+fn generate(spheres: HardSpheres, out: Option<&Path>) -> Result<(), Failure> {
+    let scene = spheres.build().map_err(|e| (2, e.to_string()))?;
+    let text = scene.to_json();
+    match out {
+        Some(path) => {
+            write_whole(path, &text).map_err(|e| (1, format!("{}: {e}", path.display())))?
+        }
+        None => print!("{text}"),
+    }
+    let counts: Vec<String> = spheres
+        .species()
+        .iter()
+        .map(|s| format!("{} of diameter {}", s.count, s.diameter))
+        .collect();
+    eprintln!(
+        "{} spheres ({}), walls of side {:.4}, horizon {:.6} for about {} collisions",
+        spheres.n,
+        counts.join(", "),
+        spheres.side(),
+        scene.horizon,
+        spheres.collisions
+    );
     Ok(())
 }
 

@@ -3,8 +3,8 @@
 
 use crate::scene::{Scene, ShapeSpec};
 use kinetic_core::{
-    BruteForce, CandidateStructure, ContactEvent, ContactKind, Shape, Stats, World, WorldError,
-    WorldKind,
+    BruteForce, CandidateStructure, ContactEvent, ContactKind, ElasticCells, FlightPlan, Response,
+    Shape, Stats, Walls, World, WorldError, WorldKind,
 };
 use kinetic_flight::{Choice, ConvexShape, Grid, Guards, Sweep};
 use kinetic_rolling::{ListLayout, RollingTree};
@@ -24,18 +24,22 @@ pub enum StructureName {
     Guards,
     /// The sweep's box pairs, found in a hierarchical kinetic grid (neighbours only).
     Grid,
+    /// Elastic balls in walls on a hierarchical grid of cells, one scheduled event per ball
+    /// (the hard-sphere systems of molecular dynamics).
+    Cells,
     /// One certificate per pair: the exact reference.
     BruteForce,
 }
 
 impl StructureName {
     /// Every name, as written on the command line.
-    pub const ALL: [(&'static str, StructureName); 6] = [
+    pub const ALL: [(&'static str, StructureName); 7] = [
         ("rolling-tree", StructureName::RollingTree),
         ("rolling-global-lists", StructureName::RollingGlobalLists),
         ("sweep", StructureName::Sweep),
         ("guards", StructureName::Guards),
         ("grid", StructureName::Grid),
+        ("cells", StructureName::Cells),
         ("brute-force", StructureName::BruteForce),
     ];
 
@@ -102,20 +106,76 @@ pub struct RunOutput {
 }
 
 /// The structure a scene gets when none is named: the lightest one that is exact for it.
-/// A plane world gets the rolling collision tree; a free world gets the sweep over boxes when
-/// its inner radii differ by at most [`kinetic_flight::SIGMA_MAX`], guards otherwise.
+/// Elastic balls moving linearly inside walls get the cell grid ([`ElasticCells`]) when it
+/// fits their sizes; otherwise a plane world gets the rolling collision tree, and a free world
+/// the sweep over boxes when its inner radii differ by at most [`kinetic_flight::SIGMA_MAX`],
+/// guards otherwise.
 pub fn choose_structure(scene: &Scene) -> StructureName {
     choose_for(scene, &shapes_of(scene).unwrap_or_default())
 }
 
 /// [`choose_structure`] for a scene whose shapes are built.
 fn choose_for(scene: &Scene, shapes: &[Shape]) -> StructureName {
+    if cell_balls(scene).is_some() {
+        return StructureName::Cells;
+    }
     match scene.world {
         WorldKind::Plane => StructureName::RollingTree,
         WorldKind::Free if kinetic_flight::choose(shapes) == Choice::Guards => {
             StructureName::Guards
         }
         WorldKind::Free => StructureName::Sweep,
+    }
+}
+
+/// The walls and balls of a scene that the cell grid holds: elastic, free, walls, balls only,
+/// no accelerations, and sizes for which the grid is small.
+fn cell_balls(scene: &Scene) -> Option<(Walls, Vec<(f64, FlightPlan)>)> {
+    let walls = scene.walls?;
+    if scene.world != WorldKind::Free || scene.response != Response::Elastic {
+        return None;
+    }
+    let mut balls = Vec::with_capacity(scene.objects.len());
+    for o in &scene.objects {
+        match o.shape {
+            ShapeSpec::Ball { radius } if o.acceleration == glam::DVec3::ZERO => {
+                balls.push((radius, o.plan()));
+            }
+            _ => return None,
+        }
+    }
+    let radii: Vec<f64> = balls.iter().map(|b| b.0).collect();
+    ElasticCells::supports(&walls, &radii).then_some((walls, balls))
+}
+
+/// Runs a scene on the cell grid.
+fn run_cells(scene: &Scene, start: Instant) -> Result<RunOutput, RunError> {
+    let (walls, balls) = cell_balls(scene).ok_or_else(|| {
+        RunError::Input(
+            "--structure cells: applies to elastic balls moving linearly inside walls in a \
+             \"free\" world, with sizes the grid can hold"
+                .to_string(),
+        )
+    })?;
+    let mut cells =
+        ElasticCells::new(walls, &balls).map_err(|e| RunError::Input(format!("objects: {e}")))?;
+    let result = cells.advance_to(scene.horizon);
+    let output = RunOutput {
+        structure: StructureName::Cells,
+        objects: scene.objects.len(),
+        horizon: scene.horizon,
+        events: cells.drain_events(),
+        stats: cells.stats().clone(),
+        structure_stats: cells.counters(),
+        wall_seconds: start.elapsed().as_secs_f64(),
+    };
+    match result {
+        Ok(()) => Ok(output),
+        Err(source) => Err(RunError::Stopped {
+            time: cells.now(),
+            source,
+            partial: Box::new(output),
+        }),
     }
 }
 
@@ -168,6 +228,11 @@ fn make_structure(
         StructureName::Sweep => Ok(Box::new(Sweep::new())),
         StructureName::Grid => Ok(Box::new(Grid::new())),
         StructureName::Guards => Ok(Box::new(Guards::new(kinetic_flight::guard_fatness(shapes)))),
+        StructureName::Cells => Err(RunError::Input(
+            "--structure cells: the cell grid runs whole scenes, not inside a world; \
+             frames are drawn from a world (use --structure grid)"
+                .to_string(),
+        )),
     }
 }
 
@@ -210,6 +275,16 @@ pub fn run_scene_sampled(
     mut sample: impl FnMut(&World, &[ContactEvent]),
 ) -> Result<RunOutput, RunError> {
     let start = Instant::now();
+    let chosen = structure.unwrap_or_else(|| choose_structure(scene));
+    if chosen == StructureName::Cells {
+        if times.is_empty() {
+            return run_cells(scene, start);
+        }
+        if structure.is_none() {
+            // Frames are drawn from a world: the grid gives the same events.
+            return run_scene_sampled(scene, Some(StructureName::Grid), times, sample);
+        }
+    }
     let (mut world, name) = build_world(scene, structure)?;
     let mut events = Vec::new();
     let mut result = Ok(());

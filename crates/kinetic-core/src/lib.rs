@@ -43,6 +43,6 @@ pub use sorted_list::{KineticSortedList, SortedListError, Swap};
 pub use structure::{Bodies, CandidateStructure, PairChange};
 pub use world::step::StepKind;
 pub use world::{
-    Body, ContactEvent, ContactKind, ObjectId, PairCertificate, Response, Shape, Stats, Walls,
-    World, WorldError, WorldKind,
+    Body, ContactEvent, ContactKind, ElasticCells, ObjectId, PairCertificate, Response, Shape,
+    Stats, Walls, World, WorldError, WorldKind,
 };

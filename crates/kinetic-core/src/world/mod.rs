@@ -4,6 +4,7 @@
 //! Split by operation: `pairs.rs` (pair certificates and their contact state machine),
 //! `step.rs` (the event loop and the elastic response), `walls.rs`, `validate.rs`.
 
+pub(crate) mod cells;
 mod pairs;
 pub(crate) mod step;
 mod validate;
@@ -15,6 +16,7 @@ use crate::math::{Real, Vec3};
 use crate::plan::FlightPlan;
 use crate::queue::EventQueue;
 use crate::structure::{CandidateStructure, PairChange};
+pub use cells::ElasticCells;
 pub use pairs::PairCertificate;
 use std::collections::BTreeMap;
 use std::sync::Arc;

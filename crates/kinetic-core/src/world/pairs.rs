@@ -328,6 +328,35 @@ impl ShapeWalk {
     }
 }
 
+/// The gap polynomial of two balls (plans and radii) in local time around `t`.
+#[inline]
+pub(crate) fn ball_gap(
+    kind: WorldKind,
+    pa: &crate::FlightPlan,
+    ra: Real,
+    pb: &crate::FlightPlan,
+    rb: Real,
+    t: Real,
+) -> Poly {
+    let threshold2 = match kind {
+        WorldKind::Free => (ra + rb) * (ra + rb),
+        WorldKind::Plane => 4.0 * ra * rb,
+    };
+    ball_ball_gap(
+        &pa.local_coefficients(t),
+        &pb.local_coefficients(t),
+        threshold2,
+    )
+}
+
+/// The time both current plans began (not after now): a pair's roots are found in its gap
+/// around this time, which depends only on the plans, not on when a structure made the pair a
+/// candidate, so every structure finds the same roots, bit for bit.
+#[inline]
+pub(crate) fn canonical_base(pa: &crate::FlightPlan, pb: &crate::FlightPlan, now: Real) -> Real {
+    pa.t0.max(pb.t0).min(now)
+}
+
 /// Candidate pairs by slot, with an index by pair and by object.
 #[derive(Debug, Default)]
 pub(crate) struct PairTable {
@@ -417,23 +446,12 @@ impl World {
     /// The gap polynomial in local time around `t`.
     fn gap_at(&self, a: u32, b: u32, t: Real) -> Poly {
         let (pa, pb) = (self.plan_of(a), self.plan_of(b));
-        let (ra, rb) = (self.radius(a), self.radius(b));
-        let threshold2 = match self.kind {
-            WorldKind::Free => (ra + rb) * (ra + rb),
-            WorldKind::Plane => 4.0 * ra * rb,
-        };
-        ball_ball_gap(
-            &pa.local_coefficients(t),
-            &pb.local_coefficients(t),
-            threshold2,
-        )
+        ball_gap(self.kind, &pa, self.radius(a), &pb, self.radius(b), t)
     }
 
-    /// The gap around the time both current plans began (not after now): it depends only on
-    /// the plans, not on when a structure made the pair a candidate, so every structure finds
-    /// the same roots, bit for bit.
+    /// The gap around the time both current plans began (see [`canonical_base`]).
     fn canonical_gap(&self, a: u32, b: u32) -> (Real, Poly) {
-        let base = self.plan_of(a).t0.max(self.plan_of(b).t0).min(self.now);
+        let base = canonical_base(&self.plan_of(a), &self.plan_of(b), self.now);
         (base, self.gap_at(a, b, base))
     }
 

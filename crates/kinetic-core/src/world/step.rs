@@ -152,24 +152,14 @@ impl World {
     /// velocities changed (they do not for balls that are not approaching).
     fn collide(&mut self, a: u32, b: u32) -> bool {
         let (pa, pb) = (self.plan_of(a), self.plan_of(b));
-        let n = pa.position_at(self.now) - pb.position_at(self.now);
-        let len = n.length();
-        if len == 0.0 || !len.is_finite() {
-            return false;
+        match elastic_exchange(&pa, self.radius(a), &pb, self.radius(b), self.now) {
+            Some((na, nb)) => {
+                self.replan(a, na);
+                self.replan(b, nb);
+                true
+            }
+            None => false,
         }
-        let n = n / len;
-        let (va, vb) = (pa.velocity_at(self.now), pb.velocity_at(self.now));
-        let u = (va - vb).dot(n);
-        if u >= 0.0 {
-            return false;
-        }
-        let (ra, rb) = (self.radius(a), self.radius(b));
-        let (ma, mb) = (ra * ra * ra, rb * rb * rb);
-        // Written with mass ratios so that radii 1e-6 next to 1e6 do not overflow.
-        let (wa, wb) = (2.0 / (1.0 + ma / mb), 2.0 / (1.0 + mb / ma));
-        self.replan(a, pa.replanned(self.now, va - n * (wa * u)));
-        self.replan(b, pb.replanned(self.now, vb + n * (wb * u)));
-        true
     }
 
     /// Installs a new plan for `id` and reschedules exactly its certificates.
@@ -187,4 +177,34 @@ impl World {
         }
         self.refresh_walls(id);
     }
+}
+
+/// The plans of two balls after an elastic collision at `now`: momentum exchanged along the
+/// line between the centres (between tangency points on a plane), masses proportional to
+/// radius cubed; `None` for balls that are not approaching (their velocities do not change).
+pub(crate) fn elastic_exchange(
+    pa: &FlightPlan,
+    ra: Real,
+    pb: &FlightPlan,
+    rb: Real,
+    now: Real,
+) -> Option<(FlightPlan, FlightPlan)> {
+    let n = pa.position_at(now) - pb.position_at(now);
+    let len = n.length();
+    if len == 0.0 || !len.is_finite() {
+        return None;
+    }
+    let n = n / len;
+    let (va, vb) = (pa.velocity_at(now), pb.velocity_at(now));
+    let u = (va - vb).dot(n);
+    if u >= 0.0 {
+        return None;
+    }
+    let (ma, mb) = (ra * ra * ra, rb * rb * rb);
+    // Written with mass ratios so that radii 1e-6 next to 1e6 do not overflow.
+    let (wa, wb) = (2.0 / (1.0 + ma / mb), 2.0 / (1.0 + mb / ma));
+    Some((
+        pa.replanned(now, va - n * (wa * u)),
+        pb.replanned(now, vb + n * (wb * u)),
+    ))
 }

@@ -23,24 +23,13 @@ impl World {
         let Some(body) = self.bodies[id as usize].as_ref() else {
             return;
         };
-        let centre = body.plan.local_coefficients(self.now);
-        let r = body.shape.outer_radius();
-        let mut best: Option<WallHit> = None;
-        for axis in 0..self.dims() {
-            for (upper, at) in [(false, walls.min[axis]), (true, walls.max[axis])] {
-                let w = wall_gap(&centre, r, axis, at, upper);
-                // Only collisions count: a ball grazing a wall does not bounce.
-                let mut walk = Walk::elastic(&w, self.now, self.now, &w);
-                while let Some((_, _, Due::Graze)) = walk.due {
-                    walk.consume(Response::Elastic);
-                }
-                if let Some((time, _, _)) = walk.due
-                    && best.is_none_or(|b| time < b.time)
-                {
-                    best = Some(WallHit { time, axis, upper });
-                }
-            }
-        }
+        let best = wall_hit(
+            &body.plan,
+            body.shape.outer_radius(),
+            &walls,
+            self.dims(),
+            self.now,
+        );
         self.wall_due[id as usize] = best;
         match best {
             Some(hit) => self.wall_queue.schedule(id, hit.time, u64::from(id)),
@@ -55,13 +44,46 @@ impl World {
         let Some(hit) = self.wall_due[id as usize] else {
             return;
         };
-        let plan = self.plan_of(id);
-        let mut v = plan.velocity_at(self.now);
-        // Only a ball moving into the wall turns; rounding cannot make it turn twice.
-        if (hit.upper && v[hit.axis] > 0.0) || (!hit.upper && v[hit.axis] < 0.0) {
-            v[hit.axis] = -v[hit.axis];
-        }
+        let plan = bounced(&self.plan_of(id), hit, self.now);
         self.stats.bounces += 1;
-        self.replan(id, plan.replanned(self.now, v));
+        self.replan(id, plan);
     }
+}
+
+/// The first wall contact of a ball of radius `r` with `plan` after `now` (grazes skipped: a
+/// ball grazing a wall does not bounce), over the first `dims` axes.
+pub(crate) fn wall_hit(
+    plan: &crate::FlightPlan,
+    r: Real,
+    walls: &super::Walls,
+    dims: usize,
+    now: Real,
+) -> Option<WallHit> {
+    let centre = plan.local_coefficients(now);
+    let mut best: Option<WallHit> = None;
+    for axis in 0..dims {
+        for (upper, at) in [(false, walls.min[axis]), (true, walls.max[axis])] {
+            let w = wall_gap(&centre, r, axis, at, upper);
+            let mut walk = Walk::elastic(&w, now, now, &w);
+            while let Some((_, _, Due::Graze)) = walk.due {
+                walk.consume(Response::Elastic);
+            }
+            if let Some((time, _, _)) = walk.due
+                && best.is_none_or(|b| time < b.time)
+            {
+                best = Some(WallHit { time, axis, upper });
+            }
+        }
+    }
+    best
+}
+
+/// The plan of a ball that reaches a wall at `now`: its velocity across the wall reversed if
+/// it moves into it (rounding cannot make it turn twice).
+pub(crate) fn bounced(plan: &crate::FlightPlan, hit: WallHit, now: Real) -> crate::FlightPlan {
+    let mut v = plan.velocity_at(now);
+    if (hit.upper && v[hit.axis] > 0.0) || (!hit.upper && v[hit.axis] < 0.0) {
+        v[hit.axis] = -v[hit.axis];
+    }
+    plan.replanned(now, v)
 }
