@@ -107,6 +107,7 @@ impl Method {
             ],
         }
         .into_iter()
+        .chain(crate::run::cells_hold(scene).then_some(StructureName::Cells))
         .chain([StructureName::BruteForce])
         .map(Method::Kinetic)
         .collect();

@@ -148,6 +148,12 @@ fn cell_balls(scene: &Scene) -> Option<(Walls, Vec<(f64, FlightPlan)>)> {
     ElasticCells::supports(&walls, &radii).then_some((walls, balls))
 }
 
+/// Whether the cell grid holds the scene (elastic balls moving linearly inside walls, in a
+/// free world, with sizes for which the grid is small).
+pub fn cells_hold(scene: &Scene) -> bool {
+    cell_balls(scene).is_some()
+}
+
 /// Runs a scene on the cell grid.
 fn run_cells(scene: &Scene, start: Instant) -> Result<RunOutput, RunError> {
     let (walls, balls) = cell_balls(scene).ok_or_else(|| {

@@ -493,3 +493,69 @@ fn compare_scores_every_method_and_writes_csv_and_chart() {
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("plasma"));
 }
+
+#[test]
+fn generate_writes_hard_spheres_that_run_on_the_cell_grid() {
+    let dir = temp_dir("generate");
+    let path = dir.join("mixture.json");
+    let out = tool()
+        .args([
+            "generate",
+            "--n",
+            "300",
+            "--ratio",
+            "0.3",
+            "--collisions",
+            "2000",
+        ])
+        .arg("-o")
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&path).unwrap();
+    let scene = kinetic_collide::scene::Scene::from_json(&text).unwrap();
+    assert_eq!(scene.objects.len(), 300);
+    assert_eq!(scene.response, kinetic_collide::Response::Elastic);
+    assert!(scene.walls.is_some());
+    let (status, err, events, stats) = run(&dir, &text, &[]);
+    assert_eq!(status, 0, "{err}");
+    let stats: serde_json::Value = serde_json::from_str(&stats.unwrap()).unwrap();
+    assert_eq!(stats["structure"], "cells");
+    let events = events.unwrap();
+    assert!(events.lines().count() > 1000);
+    assert!(events.lines().all(|l| l.ends_with(r#""kind": "begin"}"#)));
+    // The world with the kinetic grid logs the same bytes.
+    let (_, _, grid, _) = run(&dir, &text, &["--structure", "grid"]);
+    assert_eq!(grid.unwrap(), events);
+    // Same seed, same scene; bad parameters are named, with status 2 and no file.
+    let again = tool()
+        .args([
+            "generate",
+            "--n",
+            "300",
+            "--ratio",
+            "0.3",
+            "--collisions",
+            "2000",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(String::from_utf8_lossy(&again.stdout), text);
+    let bad = dir.join("bad.json");
+    for (flag, value, name) in [("--ratio", "1.5", "ratio"), ("--packing", "0.6", "packing")] {
+        let out = tool()
+            .args(["generate", flag, value, "-o"])
+            .arg(&bad)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2));
+        assert!(String::from_utf8_lossy(&out.stderr).contains(name));
+        assert!(!bad.exists());
+    }
+}
