@@ -11,12 +11,12 @@
 //! collisions per second, the process's peak memory per sphere, and the wall time for `C`
 //! collisions (default 1e6).
 //!
-//! DynamO: pass `--dynamo DIR` with `DIR/dynamod` and `DIR/dynarun` built from its public
-//! source (nothing of it is in this repository). DynamO makes the same system (its own
-//! periodic box: `dynamod` places and equilibrates it), runs it for the same number of
-//! collisions (fewer, and the time scaled, where it would take more than `--dynamo-budget`
-//! seconds, default 120) and is timed the same way. Without DynamO the table holds our
-//! figures only.
+//! DynamO: pass `--dynamo DIR` with `DIR/dynarun` built from its public source (nothing of it
+//! is in this repository). It runs the same spheres from the same start (positions and
+//! velocities written as a DynamO configuration, in its periodic box of the same side) for the
+//! same number of collisions, or fewer where that would take more than `--dynamo-budget`
+//! seconds (default 120), the time for 1e6 then scaled from its rate. Without DynamO the table
+//! holds our figures only.
 
 use kinetic_collide::hard_spheres::HardSpheres;
 use kinetic_collide::run::{StructureName, choose_structure};
@@ -161,7 +161,7 @@ fn ours(system: System, collisions: f64) -> Result<Measured, String> {
     }
 }
 
-/// Runs `cmd` under GNU time: wall seconds and peak KiB, or why not.
+/// Runs `cmd` (under GNU time printing `PEAK_KB=`): wall seconds, peak KiB and its output.
 fn timed(cmd: &mut Command) -> Result<(f64, f64, String), String> {
     let start = Instant::now();
     let out = cmd.output().map_err(|e| e.to_string())?;
@@ -183,72 +183,122 @@ fn timed(cmd: &mut Command) -> Result<(f64, f64, String), String> {
     ))
 }
 
-/// DynamO on the same system: `dynamod` makes it (periodic box, same N, packing fraction
-/// and size ratio), `dynarun` equilibrates it, then runs it for the collisions counted.
+/// The system as a DynamO configuration: the same spheres, positions and velocities, in
+/// DynamO's periodic box of the same side (centred on the origin), its neighbour-list
+/// scheduler and hard-sphere interactions per species pair.
+fn dynamo_config(scene: &kinetic_collide::scene::Scene, h: &HardSpheres) -> String {
+    let side = h.side();
+    let species = h.species();
+    let mut x = String::new();
+    let _ = write!(
+        x,
+        "<?xml version=\"1.0\"?>\n<DynamOconfig version=\"1.5.0\">\n  <Simulation>\n    \
+         <Scheduler Type=\"NeighbourList\">\n      <Sorter Type=\"BoundedPQMinMax3\"/>\n    \
+         </Scheduler>\n    <SimulationSize x=\"{side:.17}\" y=\"{side:.17}\" z=\"{side:.17}\"/>\n    <Genus>\n"
+    );
+    let mut first = 0;
+    let ranges: Vec<(usize, usize)> = species
+        .iter()
+        .map(|s| {
+            let r = (first, first + s.count - 1);
+            first += s.count;
+            r
+        })
+        .collect();
+    for (k, (s, (lo, hi))) in species.iter().zip(&ranges).enumerate() {
+        let _ = write!(
+            x,
+            "      <Species Mass=\"{:.17}\" Name=\"S{k}\" Type=\"Point\">\n        \
+             <IDRange Type=\"Ranged\" Start=\"{lo}\" End=\"{hi}\"/>\n      </Species>\n",
+            s.mass
+        );
+    }
+    x.push_str("    </Genus>\n    <BC Type=\"PBC\"/>\n    <Topology/>\n    <Interactions>\n");
+    let range = |(lo, hi): (usize, usize)| {
+        format!("<IDRange Type=\"Ranged\" Start=\"{lo}\" End=\"{hi}\"/>")
+    };
+    for i in 0..species.len() {
+        for j in i..species.len() {
+            let d = (species[i].diameter + species[j].diameter) / 2.0;
+            let pairs = if i == j {
+                format!(
+                    "<IDPairRange Type=\"Single\">{}</IDPairRange>",
+                    range(ranges[i])
+                )
+            } else {
+                format!(
+                    "<IDPairRange Type=\"Pair\">{}{}</IDPairRange>",
+                    range(ranges[i]),
+                    range(ranges[j])
+                )
+            };
+            let _ = writeln!(
+                x,
+                "      <Interaction Type=\"HardSphere\" Diameter=\"{d:.17}\" Name=\"I{i}{j}\">{pairs}</Interaction>"
+            );
+        }
+    }
+    x.push_str(
+        "    </Interactions>\n    <Locals/>\n    <Globals/>\n    <SystemEvents/>\n    \
+         <Dynamics Type=\"Newtonian\"/>\n  </Simulation>\n  <Properties/>\n  <ParticleData>\n",
+    );
+    for (id, o) in scene.objects.iter().enumerate() {
+        let p = o.position - glam::DVec3::splat(side / 2.0);
+        let v = o.velocity;
+        let _ = writeln!(
+            x,
+            "    <Pt ID=\"{id}\"><P x=\"{:.17}\" y=\"{:.17}\" z=\"{:.17}\"/><V x=\"{:.17}\" y=\"{:.17}\" z=\"{:.17}\"/></Pt>",
+            p.x, p.y, p.z, v.x, v.y, v.z
+        );
+    }
+    x.push_str("  </ParticleData>\n</DynamOconfig>\n");
+    x
+}
+
+/// DynamO on the same system, from the same start: a probe of 2e4 collisions sizes the
+/// measured run to the budget; collisions per second are DynamO's own `EventsPerSec` (its
+/// run time without reading the configuration), memory is the process's peak.
 fn dynamo(dir: &Path, system: System, collisions: f64, budget: f64) -> Result<Measured, String> {
     let work = std::env::temp_dir().join(format!("kinetic-dynamo-{}", std::process::id()));
     std::fs::create_dir_all(&work).map_err(|e| e.to_string())?;
     let h = system.spheres(collisions);
-    let species = h.species();
-    let n = system.n;
-    let packing = h.packing;
-    let config = work.join("config.start.xml.bz2");
-    let equilibrated = work.join("config.equilibrated.xml.bz2");
-    let mut make = Command::new(dir.join("dynamod"));
-    make.current_dir(&work);
-    if species.len() == 1 {
-        // FCC: 4 C^3 spheres; C chosen so that 4 C^3 is N.
-        let c = ((n as f64 / 4.0).cbrt()).round() as usize;
-        if 4 * c * c * c != n {
-            return Err(format!("{n} is not 4 C^3 for DynamO's FCC lattice"));
-        }
-        let density = packing * 6.0 / std::f64::consts::PI;
-        make.args(["-m", "0", "-C", &c.to_string(), "-d", &density.to_string()]);
-    } else {
-        return Err(dynamo_mixture_unsupported(&species));
-    }
-    make.arg("-o").arg(&config);
-    timed(&mut make)?;
-    // Equilibrate: 20 collisions per sphere.
-    let mut eq = Command::new(dir.join("dynarun"));
-    eq.current_dir(&work)
-        .arg(&config)
-        .args(["-c", &(20 * n).to_string(), "-o"])
-        .arg(&equilibrated);
-    timed(&mut eq)?;
-    // A short run to size the measured one within the budget.
-    let probe = 20_000.0f64.min(collisions);
-    let (s, _, _) = dynarun(dir, &work, &equilibrated, probe)?;
-    let count = collisions.min((budget / s * probe).max(probe)).round();
-    let (seconds, peak_kb, _) = dynarun(dir, &work, &equilibrated, count)?;
+    let scene = h.build().map_err(|e| e.to_string())?;
+    let config = work.join("config.xml");
+    std::fs::write(&config, dynamo_config(&scene, &h)).map_err(|e| e.to_string())?;
+    let probe = 2e4f64.min(collisions);
+    let (rate, _) = dynarun(dir, &work, &config, probe)?;
+    let count = collisions.min((budget * rate).max(probe)).round();
+    let (rate, peak_kb) = dynarun(dir, &work, &config, count)?;
     let _ = std::fs::remove_dir_all(&work);
     Ok(Measured {
         collisions: count,
-        seconds,
+        seconds: count / rate,
         peak_kb,
     })
 }
 
-fn dynamo_mixture_unsupported(_species: &[kinetic_collide::hard_spheres::Species]) -> String {
-    "mixtures: not set up for DynamO yet".to_string()
-}
-
-fn dynarun(
-    dir: &Path,
-    work: &Path,
-    config: &Path,
-    count: f64,
-) -> Result<(f64, f64, String), String> {
+/// One `dynarun` for `count` collisions: its collisions per second and peak KiB.
+fn dynarun(dir: &Path, work: &Path, config: &Path, count: f64) -> Result<(f64, f64), String> {
+    let output = work.join("output.xml");
     let mut cmd = Command::new("/usr/bin/time");
     cmd.current_dir(work)
         .args(["-f", "PEAK_KB=%M"])
         .arg(dir.join("dynarun"))
         .arg(config)
         .args(["-c", &format!("{count}"), "-o"])
-        .arg(work.join("config.end.xml.bz2"))
+        .arg(work.join("config.end.xml"))
         .arg("--out-data-file")
-        .arg(work.join("output.xml.bz2"));
-    timed(&mut cmd)
+        .arg(&output);
+    let (_, peak, _) = timed(&mut cmd)?;
+    let text =
+        std::fs::read_to_string(&output).map_err(|e| format!("{}: {e}", output.display()))?;
+    let rate = text
+        .split("EventsPerSec=\"")
+        .nth(1)
+        .and_then(|r| r.split('"').next())
+        .and_then(|r| r.parse::<f64>().ok())
+        .ok_or("no EventsPerSec in DynamO's output")?;
+    Ok((rate, peak))
 }
 
 fn main() {

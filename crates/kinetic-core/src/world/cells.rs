@@ -537,23 +537,27 @@ impl ElasticCells {
         let (ra, rb) = (self.radius[a as usize], self.radius[b as usize]);
         let base = canonical_base(pa, pb, self.now);
         let fb = ball_gap(WorldKind::Free, pa, ra, pb, rb, base);
+        // Apart now and never approaching (linear motion: the gap grows from its value at
+        // `base`), or approaching but clearly missing: no event, as the walk would find. The
+        // gap now is needed whole only when the walk is made.
+        if fb.c[0] > 0.0 {
+            let [c0, c1, c2, ..] = fb.c;
+            let d = pa.position_at(self.now) - pb.position_at(self.now);
+            if d.dot(d) - (ra + rb) * (ra + rb) > 0.0 {
+                if c1 >= 0.0 {
+                    return None;
+                }
+                let (p, q) = (4.0 * c2 * c0, c1 * c1);
+                if p - q > 1e-6 * (p + q) {
+                    return None;
+                }
+            }
+        }
         let f = if base == self.now {
             fb
         } else {
             ball_gap(WorldKind::Free, pa, ra, pb, rb, self.now)
         };
-        // Apart now and never approaching (linear motion: the gap grows from its value at
-        // `base`), or approaching but clearly missing: no event, as the walk would find.
-        if f.c[0] > 0.0 && fb.c[0] > 0.0 {
-            let [c0, c1, c2, ..] = fb.c;
-            if c1 >= 0.0 {
-                return None;
-            }
-            let (p, q) = (4.0 * c2 * c0, c1 * c1);
-            if p - q > 1e-6 * (p + q) {
-                return None;
-            }
-        }
         let mut walk = Walk::elastic(&fb, base, self.now, &f);
         if let Some(&(_, _, until)) = self.skips[a as usize]
             .iter()
