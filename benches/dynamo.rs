@@ -161,26 +161,19 @@ fn ours(system: System, collisions: f64) -> Result<Measured, String> {
     }
 }
 
-/// Runs `cmd` (under GNU time printing `PEAK_KB=`): wall seconds, peak KiB and its output.
-fn timed(cmd: &mut Command) -> Result<(f64, f64, String), String> {
-    let start = Instant::now();
+/// Runs `cmd` (under GNU time printing `PEAK_KB=`): its peak KiB, or why it failed.
+fn peak_kb_of(cmd: &mut Command) -> Result<f64, String> {
     let out = cmd.output().map_err(|e| e.to_string())?;
-    let seconds = start.elapsed().as_secs_f64();
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    let stderr = String::from_utf8_lossy(&out.stderr);
     if !out.status.success() {
         return Err(format!("{cmd:?} failed: {stderr}"));
     }
-    let peak = stderr
+    Ok(stderr
         .lines()
         .rev()
         .find_map(|l| l.trim().strip_prefix("PEAK_KB="))
         .and_then(|v| v.parse().ok())
-        .unwrap_or(f64::NAN);
-    Ok((
-        seconds,
-        peak,
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-    ))
+        .unwrap_or(f64::NAN))
 }
 
 /// The system as a DynamO configuration: the same spheres, positions and velocities, in
@@ -289,7 +282,7 @@ fn dynarun(dir: &Path, work: &Path, config: &Path, count: f64) -> Result<(f64, f
         .arg(work.join("config.end.xml"))
         .arg("--out-data-file")
         .arg(&output);
-    let (_, peak, _) = timed(&mut cmd)?;
+    let peak = peak_kb_of(&mut cmd)?;
     let text =
         std::fs::read_to_string(&output).map_err(|e| format!("{}: {e}", output.display()))?;
     let rate = text

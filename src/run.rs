@@ -175,14 +175,7 @@ fn run_cells(scene: &Scene, start: Instant) -> Result<RunOutput, RunError> {
         structure_stats: cells.counters(),
         wall_seconds: start.elapsed().as_secs_f64(),
     };
-    match result {
-        Ok(()) => Ok(output),
-        Err(source) => Err(RunError::Stopped {
-            time: cells.now(),
-            source,
-            partial: Box::new(output),
-        }),
-    }
+    output.finish(result, cells.now())
 }
 
 /// The objects' shapes, or the first that cannot be built.
@@ -320,17 +313,22 @@ pub fn run_scene_sampled(
         structure_stats: world.structure_counters(),
         wall_seconds: start.elapsed().as_secs_f64(),
     };
-    match result {
-        Ok(()) => Ok(output),
-        Err(source) => Err(RunError::Stopped {
-            time: world.now(),
-            source,
-            partial: Box::new(output),
-        }),
-    }
+    output.finish(result, world.now())
 }
 
 impl RunOutput {
+    /// The output of a run that ended at `now` with `result`: stopped runs keep it as partial.
+    fn finish(self, result: Result<(), WorldError>, now: f64) -> Result<RunOutput, RunError> {
+        match result {
+            Ok(()) => Ok(self),
+            Err(source) => Err(RunError::Stopped {
+                time: now,
+                source,
+                partial: Box::new(self),
+            }),
+        }
+    }
+
     /// The event log as JSON Lines, exactly as the scene format shows it.
     pub fn event_log(&self) -> String {
         let mut out = String::with_capacity(self.events.len() * 56);

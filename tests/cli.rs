@@ -498,8 +498,9 @@ fn compare_scores_every_method_and_writes_csv_and_chart() {
 fn generate_writes_hard_spheres_that_run_on_the_cell_grid() {
     let dir = temp_dir("generate");
     let path = dir.join("mixture.json");
-    let out = tool()
-        .args([
+    let generate = || {
+        let mut cmd = tool();
+        cmd.args([
             "generate",
             "--n",
             "300",
@@ -507,11 +508,10 @@ fn generate_writes_hard_spheres_that_run_on_the_cell_grid() {
             "0.3",
             "--collisions",
             "2000",
-        ])
-        .arg("-o")
-        .arg(&path)
-        .output()
-        .unwrap();
+        ]);
+        cmd
+    };
+    let out = generate().arg("-o").arg(&path).output().unwrap();
     assert_eq!(
         out.status.code(),
         Some(0),
@@ -534,18 +534,7 @@ fn generate_writes_hard_spheres_that_run_on_the_cell_grid() {
     let (_, _, grid, _) = run(&dir, &text, &["--structure", "grid"]);
     assert_eq!(grid.unwrap(), events);
     // Same seed, same scene; bad parameters are named, with status 2 and no file.
-    let again = tool()
-        .args([
-            "generate",
-            "--n",
-            "300",
-            "--ratio",
-            "0.3",
-            "--collisions",
-            "2000",
-        ])
-        .output()
-        .unwrap();
+    let again = generate().output().unwrap();
     assert_eq!(String::from_utf8_lossy(&again.stdout), text);
     let bad = dir.join("bad.json");
     for (flag, value, name) in [("--ratio", "1.5", "ratio"), ("--packing", "0.6", "packing")] {

@@ -28,7 +28,7 @@
 //! whether a set of balls fits it, and the world with a candidate structure takes the rest.
 
 use super::pairs::{Due, Walk, ball_gap, canonical_base};
-use super::step::elastic_exchange;
+use super::step::{ZenoGuard, elastic_exchange};
 use super::walls::{WallHit, bounced, wall_hit};
 use super::{ContactEvent, ContactKind, ObjectId, Response, Stats, Walls, WorldError, WorldKind};
 use crate::math::{Real, Vec3};
@@ -46,8 +46,6 @@ const CELLS_PER_BALL: usize = 64;
 const CELLS_MIN: usize = 1 << 20;
 /// The most block cells per ball, on average, for which the grid is worth it.
 const BLOCK_CELLS_PER_BALL: Real = 64.0;
-/// Events allowed at one instant, per ball, before the run is declared Zeno.
-const ZENO_PER_OBJECT: u64 = 1000;
 /// No ball in a list.
 const NIL: u32 = u32::MAX;
 /// Queue tie-breaks: cell events first, then pairs by `(a, b)`, then walls by ball.
@@ -165,6 +163,8 @@ pub struct ElasticCells {
     /// Home-cell lists: next and previous member.
     link: Vec<[u32; 2]>,
     blocks: Vec<Vec<Block>>,
+    /// Each ball's next wall contact, found when its plan began.
+    wall: Vec<Option<WallHit>>,
     /// Pair events consumed without a change of plans (grazes): `(other, its counter, time)`.
     skips: Vec<Vec<(u32, u32, Real)>>,
     next: Vec<Next>,
@@ -172,7 +172,7 @@ pub struct ElasticCells {
     levels: Vec<Level>,
     events: Vec<ContactEvent>,
     stats: Stats,
-    zeno: (Real, u64),
+    zeno: ZenoGuard,
     /// A buffer for neighbour lists.
     neighbour_buffer: Vec<u32>,
 }
@@ -302,13 +302,14 @@ impl ElasticCells {
             home: vec![[0; 3]; count],
             link: vec![[NIL; 2]; count],
             blocks: vec![Vec::new(); count],
+            wall: vec![None; count],
             skips: vec![Vec::new(); count],
             next: vec![Next::IDLE; count],
             queue: EventQueue::with_capacity(count),
             levels,
             events: Vec::new(),
             stats: Stats::default(),
-            zeno: (Real::NEG_INFINITY, 0),
+            zeno: ZenoGuard::default(),
             neighbour_buffer: Vec::new(),
         };
         for id in 0..count as u32 {
@@ -324,6 +325,7 @@ impl ElasticCells {
             cells.blocks[id as usize] = blocks;
         }
         for id in 0..count as u32 {
+            cells.wall[id as usize] = cells.wall_from_plan(id);
             cells.predict(id, false);
         }
         cells.sample();
@@ -461,7 +463,7 @@ impl ElasticCells {
         };
         *self.stats.events_by_kind.entry(kind).or_insert(0) += 1;
         self.sample();
-        self.count_instant(pair)?;
+        self.zeno.count(self.now, self.len(), pair.0, pair.1)?;
         Ok(true)
     }
 
@@ -471,25 +473,6 @@ impl ElasticCells {
         s.certificates_max = s.certificates_max.max(c);
         s.certificates_sum += c as f64;
         s.samples += 1;
-    }
-
-    /// Guards against Zeno configurations: a bounded number of events per instant.
-    fn count_instant(&mut self, (a, b): (u32, u32)) -> Result<(), WorldError> {
-        if self.zeno.0 == self.now {
-            self.zeno.1 += 1;
-        } else {
-            self.zeno = (self.now, 1);
-        }
-        let limit = ZENO_PER_OBJECT * (self.len() as u64 + 1);
-        if self.zeno.1 > limit {
-            return Err(WorldError::Zeno {
-                time: self.now,
-                limit,
-                a: a.min(b),
-                b: a.max(b),
-            });
-        }
-        Ok(())
     }
 
     /// A pair certificate fails: report the contact and respond. Balls whose plans do not
@@ -529,6 +512,7 @@ impl ElasticCells {
         self.plans[id as usize] = plan;
         self.counter[id as usize] = self.counter[id as usize].wrapping_add(1);
         self.skips[id as usize].clear();
+        self.wall[id as usize] = self.wall_from_plan(id);
     }
 
     /// The next event of the pair `(a, b)`: its time, and whether it is a graze.
@@ -572,10 +556,15 @@ impl ElasticCells {
 
     /// Ball `id`'s next wall contact, found (as the world finds it) from the state at the
     /// start of its plan, so that it does not depend on when it is asked for.
-    fn wall_next(&self, id: u32) -> Option<WallHit> {
+    fn wall_from_plan(&self, id: u32) -> Option<WallHit> {
         let plan = &self.plans[id as usize];
         let made = plan.t0.min(self.now);
-        let mut hit = wall_hit(plan, self.radius[id as usize], &self.walls, 3, made)?;
+        wall_hit(plan, self.radius[id as usize], &self.walls, 3, made)
+    }
+
+    /// Ball `id`'s next wall contact, not before now.
+    fn wall_next(&self, id: u32) -> Option<WallHit> {
+        let mut hit = self.wall[id as usize]?;
         hit.time = hit.time.max(self.now);
         Some(hit)
     }
@@ -704,7 +693,7 @@ impl ElasticCells {
     }
 
     /// Adds (or removes) ball `id` as a visitor of the cells of `block` whose coordinate
-    /// along `axis` is `at` (every cell of the block with `axis` = 3).
+    /// along `axis` is `at` (every cell of the block with `axis` = 3, see [`Self::visit`]).
     fn visit_slab(&mut self, id: u32, block: &Block, axis: usize, at: u32, add: bool) {
         let l = &mut self.levels[block.level as usize];
         let (mut lo, mut hi) = (block.lo, block.hi);
@@ -1051,6 +1040,9 @@ impl ElasticCells {
                     "cells: ball {id} was due at {}, now is {}",
                     next.time, self.now
                 ));
+            }
+            if self.wall_from_plan(id) != self.wall[i] {
+                return Err(format!("cells: ball {id}'s wall contact is not its plan's"));
             }
             if let Some(hit) = self.wall_next(id)
                 && hit.time < next.time

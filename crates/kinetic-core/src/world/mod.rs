@@ -268,7 +268,7 @@ pub struct World {
     events: Vec<ContactEvent>,
     changes: Vec<PairChange>,
     stats: Stats,
-    zeno: (Real, u64),
+    zeno: step::ZenoGuard,
 }
 
 impl World {
@@ -308,7 +308,7 @@ impl World {
             events: Vec::new(),
             changes: Vec::new(),
             stats: Stats::default(),
-            zeno: (Real::NEG_INFINITY, 0),
+            zeno: step::ZenoGuard::default(),
         };
         Ok(world)
     }

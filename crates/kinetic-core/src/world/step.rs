@@ -21,6 +21,50 @@ pub enum StepKind {
 /// Events allowed at one instant, per live object, before the run is declared Zeno.
 const ZENO_PER_OBJECT: u64 = 1000;
 
+/// Counts the events at one instant: a run with more than [`ZENO_PER_OBJECT`] per object at
+/// the same time is a Zeno configuration.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ZenoGuard {
+    at: Real,
+    count: u64,
+}
+
+impl Default for ZenoGuard {
+    fn default() -> ZenoGuard {
+        ZenoGuard {
+            at: Real::NEG_INFINITY,
+            count: 0,
+        }
+    }
+}
+
+impl ZenoGuard {
+    /// One more event at `now` among `objects` objects, the last between `a` and `b`.
+    pub(crate) fn count(
+        &mut self,
+        now: Real,
+        objects: usize,
+        a: u32,
+        b: u32,
+    ) -> Result<(), WorldError> {
+        if self.at == now {
+            self.count += 1;
+        } else {
+            (self.at, self.count) = (now, 1);
+        }
+        let limit = ZENO_PER_OBJECT * (objects as u64 + 1);
+        if self.count > limit {
+            return Err(WorldError::Zeno {
+                time: now,
+                limit,
+                a: a.min(b),
+                b: a.max(b),
+            });
+        }
+        Ok(())
+    }
+}
+
 impl World {
     /// The time of the next event (+infinity for none).
     pub fn next_event_time(&self) -> Real {
@@ -91,26 +135,12 @@ impl World {
 
     /// Guards against Zeno configurations: a bounded number of events per instant.
     fn count_instant(&mut self, kind: StepKind) -> Result<(), WorldError> {
-        if self.zeno.0 == self.now {
-            self.zeno.1 += 1;
-        } else {
-            self.zeno = (self.now, 1);
-        }
-        let limit = ZENO_PER_OBJECT * (self.len() as u64 + 1);
-        if self.zeno.1 > limit {
-            let (a, b) = match kind {
-                StepKind::Pair(a, b) => (a, b),
-                StepKind::Wall(a) => (a, a),
-                StepKind::Structure(_) => (0, 0),
-            };
-            return Err(WorldError::Zeno {
-                time: self.now,
-                limit,
-                a,
-                b,
-            });
-        }
-        Ok(())
+        let (a, b) = match kind {
+            StepKind::Pair(a, b) => (a, b),
+            StepKind::Wall(a) => (a, a),
+            StepKind::Structure(_) => (0, 0),
+        };
+        self.zeno.count(self.now, self.len(), a, b)
     }
 
     /// A pair certificate fails: report it, respond, and find the pair's next event.
