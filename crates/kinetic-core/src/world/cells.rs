@@ -102,6 +102,32 @@ fn pair_tie(a: u32, b: u32) -> u64 {
     (u64::from(a.min(b)) << 32) | u64::from(a.max(b))
 }
 
+/// A ball's linear motion and radius in one cache line, read for every pair the grid offers.
+#[derive(Clone, Copy, Debug)]
+#[repr(align(64))]
+struct Motion {
+    t0: Real,
+    position: Vec3,
+    velocity: Vec3,
+    radius: Real,
+}
+
+impl Motion {
+    fn of(plan: &FlightPlan, radius: Real) -> Motion {
+        Motion {
+            t0: plan.t0,
+            position: plan.position,
+            velocity: plan.velocity,
+            radius,
+        }
+    }
+
+    #[inline]
+    fn at(&self, t: Real) -> Vec3 {
+        self.position + self.velocity * (t - self.t0)
+    }
+}
+
 /// The levels' largest radii and cell counts, and each ball's level.
 type Layout = (Vec<(Real, [u32; 3])>, Vec<u8>);
 
@@ -155,6 +181,8 @@ pub struct ElasticCells {
     now: Real,
     walls: Walls,
     plans: Vec<FlightPlan>,
+    /// The plans' linear motion, with the radii.
+    motion: Vec<Motion>,
     radius: Vec<Real>,
     level: Vec<u8>,
     /// Plan numbers: bumped whenever a ball's plan changes.
@@ -168,6 +196,9 @@ pub struct ElasticCells {
     /// Pair events consumed without a change of plans (grazes): `(other, its counter, time)`.
     skips: Vec<Vec<(u32, u32, Real)>>,
     next: Vec<Next>,
+    /// Each ball's earliest pair event known: its `next` unless a wall or cell event comes
+    /// first. A cell crossing keeps it and predicts only the pairs the crossing brings.
+    pair_next: Vec<Next>,
     queue: EventQueue,
     levels: Vec<Level>,
     events: Vec<ContactEvent>,
@@ -296,6 +327,7 @@ impl ElasticCells {
             now: 0.0,
             walls,
             plans: balls.iter().map(|b| b.1).collect(),
+            motion: balls.iter().map(|b| Motion::of(&b.1, b.0)).collect(),
             radius: radii,
             level,
             counter: vec![0; count],
@@ -305,6 +337,7 @@ impl ElasticCells {
             wall: vec![None; count],
             skips: vec![Vec::new(); count],
             next: vec![Next::IDLE; count],
+            pair_next: vec![Next::IDLE; count],
             queue: EventQueue::with_capacity(count),
             levels,
             events: Vec::new(),
@@ -447,7 +480,7 @@ impl ElasticCells {
                 let c = &mut self.home[id as usize][axis as usize];
                 *c = if up { *c + 1 } else { *c - 1 };
                 self.link_in(id);
-                self.predict(id, true);
+                self.predict_entered(id, None, axis as usize, up);
                 ("crossing", (id, id))
             }
             Event::Block {
@@ -457,7 +490,11 @@ impl ElasticCells {
                 up,
             } => {
                 self.move_block(id, level, axis as usize, hi, up);
-                self.predict(id, true);
+                if hi == up {
+                    self.predict_entered(id, Some(level), axis as usize, up);
+                } else {
+                    self.predict_kept(id);
+                }
                 ("crossing", (id, id))
             }
         };
@@ -510,6 +547,7 @@ impl ElasticCells {
     /// Installs a new plan: the ball's old predictions are stale from now on.
     fn replan(&mut self, id: u32, plan: FlightPlan) {
         self.plans[id as usize] = plan;
+        self.motion[id as usize] = Motion::of(&plan, self.radius[id as usize]);
         self.counter[id as usize] = self.counter[id as usize].wrapping_add(1);
         self.skips[id as usize].clear();
         self.wall[id as usize] = self.wall_from_plan(id);
@@ -517,26 +555,34 @@ impl ElasticCells {
 
     /// The next event of the pair `(a, b)`: its time, and whether it is a graze.
     fn pair_due(&self, a: u32, b: u32) -> Option<(Real, bool)> {
-        let (pa, pb) = (&self.plans[a as usize], &self.plans[b as usize]);
-        let (ra, rb) = (self.radius[a as usize], self.radius[b as usize]);
-        let base = canonical_base(pa, pb, self.now);
-        let fb = ball_gap(WorldKind::Free, pa, ra, pb, rb, base);
         // Apart now and never approaching (linear motion: the gap grows from its value at
-        // `base`), or approaching but clearly missing: no event, as the walk would find. The
-        // gap now is needed whole only when the walk is made.
-        if fb.c[0] > 0.0 {
-            let [c0, c1, c2, ..] = fb.c;
-            let d = pa.position_at(self.now) - pb.position_at(self.now);
-            if d.dot(d) - (ra + rb) * (ra + rb) > 0.0 {
+        // the pair's base time), or approaching but clearly missing: no event, as the walk
+        // would find. Decided from the compact motions; the gap polynomial is made only for
+        // the pairs that need the walk.
+        let (ma, mb) = (&self.motion[a as usize], &self.motion[b as usize]);
+        let base = ma.t0.max(mb.t0).min(self.now);
+        let reach = ma.radius + mb.radius;
+        let threshold2 = reach * reach;
+        let db = ma.at(base) - mb.at(base);
+        let c0 = db.dot(db) - threshold2;
+        if c0 > 0.0 {
+            let d = ma.at(self.now) - mb.at(self.now);
+            if d.dot(d) - threshold2 > 0.0 {
+                let v = ma.velocity - mb.velocity;
+                let c1 = 2.0 * db.dot(v);
                 if c1 >= 0.0 {
                     return None;
                 }
-                let (p, q) = (4.0 * c2 * c0, c1 * c1);
+                let (p, q) = (4.0 * v.dot(v) * c0, c1 * c1);
                 if p - q > 1e-6 * (p + q) {
                     return None;
                 }
             }
         }
+        let (pa, pb) = (&self.plans[a as usize], &self.plans[b as usize]);
+        let (ra, rb) = (self.radius[a as usize], self.radius[b as usize]);
+        debug_assert_eq!(base, canonical_base(pa, pb, self.now));
+        let fb = ball_gap(WorldKind::Free, pa, ra, pb, rb, base);
         let f = if base == self.now {
             fb
         } else {
@@ -572,6 +618,63 @@ impl ElasticCells {
     /// Recomputes ball `id`'s next event from all its certificates; with `offer`, each pair's
     /// failure time is offered to the partner too (after a change of plan, or of neighbours).
     fn predict(&mut self, id: u32, offer: bool) {
+        let mut others = std::mem::take(&mut self.neighbour_buffer);
+        self.neighbours(id, &mut others);
+        self.pair_next[id as usize] = Next::IDLE;
+        self.predict_with(id, &others, offer);
+        others.clear();
+        self.neighbour_buffer = others;
+    }
+
+    /// Ball `id` crossed into new cells (its home cell moved along `axis`, or with `block`,
+    /// that block's end grew along `axis`): its pairs with the balls of the cells entered
+    /// are predicted and offered, and its earliest pair event known so far is kept. The
+    /// balls it left behind are still reached by that event or by a later full prediction.
+    fn predict_entered(&mut self, id: u32, block: Option<u8>, axis: usize, up: bool) {
+        let mut others = std::mem::take(&mut self.neighbour_buffer);
+        let i = id as usize;
+        match block {
+            None => {
+                let l = &self.levels[self.level[i] as usize];
+                let home = self.home[i];
+                let mut lo = home.map(|c| c.saturating_sub(1));
+                let mut hi = [0, 1, 2].map(|k| (home[k] + 1).min(l.n[k] - 1));
+                let far = if up {
+                    home[axis] + 1
+                } else {
+                    home[axis].wrapping_sub(1)
+                };
+                if far < l.n[axis] {
+                    (lo[axis], hi[axis]) = (far, far);
+                    self.members(l, lo, hi, id, &mut others);
+                }
+                if let Some(v) = l.visitors.get(&l.index(home)) {
+                    others.extend_from_slice(v);
+                }
+            }
+            Some(level) => {
+                if let Some(b) = self.blocks[i].iter().find(|b| b.level == level) {
+                    let (mut lo, mut hi) = (b.lo, b.hi);
+                    let at = if up { b.hi[axis] } else { b.lo[axis] };
+                    (lo[axis], hi[axis]) = (at, at);
+                    self.members(&self.levels[level as usize], lo, hi, id, &mut others);
+                }
+            }
+        }
+        self.predict_with(id, &others, true);
+        others.clear();
+        self.neighbour_buffer = others;
+    }
+
+    /// Ball `id`'s neighbours shrank (a block end left cells): its earliest pair event known
+    /// still stands; only its cell and wall events are recomputed.
+    fn predict_kept(&mut self, id: u32) {
+        self.predict_with(id, &[], true);
+    }
+
+    /// Ball `id`'s next event: the earliest of its wall contact, its cell event, its earliest
+    /// pair event known, and its pairs with `others` (offered to them with `offer`).
+    fn predict_with(&mut self, id: u32, others: &[u32], offer: bool) {
         let i = id as usize;
         let mut best = Next::IDLE;
         if let Some(hit) = self.wall_next(id) {
@@ -585,9 +688,8 @@ impl ElasticCells {
         if cell.before(&best) {
             best = cell;
         }
-        let mut others = std::mem::take(&mut self.neighbour_buffer);
-        self.neighbours(id, &mut others);
-        for &other in &others {
+        let mut pair_best = self.pair_next[i];
+        for &other in others {
             let Some((time, graze)) = self.pair_due(id, other) else {
                 continue;
             };
@@ -601,8 +703,8 @@ impl ElasticCells {
                     graze,
                 },
             };
-            if mine.before(&best) {
-                best = mine;
+            if mine.before(&pair_best) {
+                pair_best = mine;
             }
             if offer {
                 let theirs = Next {
@@ -614,19 +716,42 @@ impl ElasticCells {
                         graze,
                     },
                 };
-                if theirs.before(&self.next[other as usize]) {
-                    self.next[other as usize] = theirs;
+                let o = other as usize;
+                if theirs.before(&self.pair_next[o]) {
+                    self.pair_next[o] = theirs;
+                }
+                if theirs.before(&self.next[o]) {
+                    self.next[o] = theirs;
                     self.queue.schedule(other, time, tie);
                 }
             }
         }
-        others.clear();
-        self.neighbour_buffer = others;
+        self.pair_next[i] = pair_best;
+        if pair_best.before(&best) {
+            best = pair_best;
+        }
         self.next[i] = best;
         if best.time.is_finite() {
             self.queue.schedule(id, best.time, best.tie);
         } else {
             self.queue.remove(id);
+        }
+    }
+
+    /// Pushes the home members (other than `skip`) of the cells `lo..=hi` of level `l`.
+    fn members(&self, l: &Level, lo: [u32; 3], hi: [u32; 3], skip: u32, out: &mut Vec<u32>) {
+        for z in lo[2]..=hi[2] {
+            for y in lo[1]..=hi[1] {
+                for x in lo[0]..=hi[0] {
+                    let mut o = l.head[l.index([x, y, z]) as usize];
+                    while o != NIL {
+                        if o != skip {
+                            out.push(o);
+                        }
+                        o = self.link[o as usize][0];
+                    }
+                }
+            }
         }
     }
 
@@ -871,35 +996,12 @@ impl ElasticCells {
         let home = self.home[i];
         let lo = home.map(|c| c.saturating_sub(1));
         let hi = [0, 1, 2].map(|k| (home[k] + 1).min(l.n[k] - 1));
-        for z in lo[2]..=hi[2] {
-            for y in lo[1]..=hi[1] {
-                for x in lo[0]..=hi[0] {
-                    let mut o = l.head[l.index([x, y, z]) as usize];
-                    while o != NIL {
-                        if o != id {
-                            out.push(o);
-                        }
-                        o = self.link[o as usize][0];
-                    }
-                }
-            }
-        }
+        self.members(l, lo, hi, id, out);
         if let Some(v) = l.visitors.get(&l.index(home)) {
             out.extend_from_slice(v);
         }
         for b in &self.blocks[i] {
-            let fine = &self.levels[b.level as usize];
-            for z in b.lo[2]..=b.hi[2] {
-                for y in b.lo[1]..=b.hi[1] {
-                    for x in b.lo[0]..=b.hi[0] {
-                        let mut o = fine.head[fine.index([x, y, z]) as usize];
-                        while o != NIL {
-                            out.push(o);
-                            o = self.link[o as usize][0];
-                        }
-                    }
-                }
-            }
+            self.members(&self.levels[b.level as usize], b.lo, b.hi, id, out);
         }
     }
 
@@ -1033,6 +1135,12 @@ impl ElasticCells {
                 return Err(format!(
                     "cells: ball {id} next at {} but queued at {queued}",
                     next.time
+                ));
+            }
+            if self.pair_next[i].before(&next) {
+                return Err(format!(
+                    "cells: ball {id}'s pair event at {} comes before its next event at {}",
+                    self.pair_next[i].time, next.time
                 ));
             }
             if next.time < self.now {
