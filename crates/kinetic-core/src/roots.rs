@@ -176,7 +176,7 @@ fn next_probe(c: f64, crit: &[(f64, bool)], bound: f64) -> f64 {
 }
 
 /// Roots in `tau > 0` of `c0 + c1 tau + c2 tau^2` with `c2 != 0`, by the stable formula.
-fn quadratic_roots(c0: f64, c1: f64, c2: f64, out: &mut [(f64, bool); 4]) -> usize {
+pub(crate) fn quadratic_roots(c0: f64, c1: f64, c2: f64, out: &mut [(f64, bool); 4]) -> usize {
     let disc = c1 * c1 - 4.0 * c2 * c0;
     let mut n = 0;
     if disc < 0.0 || !disc.is_finite() {

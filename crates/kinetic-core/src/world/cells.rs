@@ -34,6 +34,7 @@ use super::{ContactEvent, ContactKind, ObjectId, Response, Stats, Walls, WorldEr
 use crate::math::{Real, Vec3};
 use crate::plan::FlightPlan;
 use crate::queue::EventQueue;
+use crate::roots::quadratic_roots;
 use rustc_hash::FxHashMap;
 
 /// Cells and blocks are this much (relative) wider than they must be.
@@ -56,6 +57,8 @@ const TIE_WALL: u64 = 1 << 63;
 enum Event {
     /// Nothing scheduled.
     Idle,
+    /// The ball's pair events from here on are unknown: predict them again.
+    Recheck,
     /// A pair certificate of the ball and `other` fails (a collision, or a graze), made while
     /// `other` had plan number `counter`.
     Pair {
@@ -94,6 +97,29 @@ impl Next {
     #[inline]
     fn before(&self, other: &Next) -> bool {
         (self.time, self.tie) < (other.time, other.tie)
+    }
+}
+
+/// The low 21 bits of `x`, spread to every third bit (one axis of a Z-curve key).
+fn spread_bits(x: u64) -> u64 {
+    let mut x = x & 0x1f_ffff;
+    x = (x | x << 32) & 0x1f_0000_0000_ffff;
+    x = (x | x << 16) & 0x1f_0000_ff00_00ff;
+    x = (x | x << 8) & 0x100f_00f0_0f00_f00f;
+    x = (x | x << 4) & 0x10c3_0c30_c30c_30c3;
+    x = (x | x << 2) & 0x1249_2492_4924_9249;
+    x
+}
+
+/// Keeps the two earliest of `top` and `event` in `top`, in order (an event already first is
+/// not taken again).
+#[inline]
+fn keep_earliest(top: &mut [Next; 2], event: Next) {
+    if event.before(&top[0]) {
+        top[1] = top[0];
+        top[0] = event;
+    } else if event.before(&top[1]) && (event.time, event.tie) != (top[0].time, top[0].tie) {
+        top[1] = event;
     }
 }
 
@@ -180,6 +206,10 @@ struct Block {
 pub struct ElasticCells {
     now: Real,
     walls: Walls,
+    /// Balls are numbered internally in memory order: `ext` gives each one's own id, `int`
+    /// the internal number of each own id.
+    ext: Vec<u32>,
+    int: Vec<u32>,
     plans: Vec<FlightPlan>,
     /// The plans' linear motion, with the radii.
     motion: Vec<Motion>,
@@ -196,9 +226,12 @@ pub struct ElasticCells {
     /// Pair events consumed without a change of plans (grazes): `(other, its counter, time)`.
     skips: Vec<Vec<(u32, u32, Real)>>,
     next: Vec<Next>,
-    /// Each ball's earliest pair event known: its `next` unless a wall or cell event comes
-    /// first. A cell crossing keeps it and predicts only the pairs the crossing brings.
-    pair_next: Vec<Next>,
+    /// Each ball's two earliest pair events known, in order: the first is its `next` unless
+    /// a wall or cell event comes first. The second bounds every other pair event of the
+    /// ball: none comes before it. When the first turns out stale, the second takes its
+    /// place, and a `Recheck` at the same key bounds the rest. A cell crossing keeps both and
+    /// predicts only the pairs of the cells entered.
+    pair_next: Vec<[Next; 2]>,
     queue: EventQueue,
     levels: Vec<Level>,
     events: Vec<ContactEvent>,
@@ -308,7 +341,7 @@ impl ElasticCells {
             });
         };
         let side = walls.max - walls.min;
-        let levels = layout
+        let levels: Vec<Level> = layout
             .iter()
             .map(|&(r_max, n)| Level {
                 n,
@@ -323,13 +356,38 @@ impl ElasticCells {
             })
             .collect();
         let count = balls.len();
+        // Balls are held in the order of their cells along a Z curve at the finest level, so
+        // that neighbours sit close in memory; ties and the log use the balls' own ids.
+        let finest = &levels[0];
+        let z_key = |p: Vec3| -> u64 {
+            (0..3).fold(0, |key, k| {
+                let c = ((p[k] - walls.min[k]) / finest.cell[k]).floor();
+                let c = if c > 0.0 {
+                    (c as u64).min(u64::from(finest.n[k] - 1))
+                } else {
+                    0
+                };
+                key | spread_bits(c) << k
+            })
+        };
+        let mut ext: Vec<u32> = (0..count as u32).collect();
+        ext.sort_by_cached_key(|&e| (z_key(balls[e as usize].1.position_at(0.0)), e));
+        let mut int = vec![0; count];
+        for (i, &e) in ext.iter().enumerate() {
+            int[e as usize] = i as u32;
+        }
         let mut cells = ElasticCells {
             now: 0.0,
             walls,
-            plans: balls.iter().map(|b| b.1).collect(),
-            motion: balls.iter().map(|b| Motion::of(&b.1, b.0)).collect(),
-            radius: radii,
-            level,
+            plans: ext.iter().map(|&e| balls[e as usize].1).collect(),
+            motion: ext
+                .iter()
+                .map(|&e| Motion::of(&balls[e as usize].1, radii[e as usize]))
+                .collect(),
+            radius: ext.iter().map(|&e| radii[e as usize]).collect(),
+            level: ext.iter().map(|&e| level[e as usize]).collect(),
+            ext,
+            int,
             counter: vec![0; count],
             home: vec![[0; 3]; count],
             link: vec![[NIL; 2]; count],
@@ -337,7 +395,7 @@ impl ElasticCells {
             wall: vec![None; count],
             skips: vec![Vec::new(); count],
             next: vec![Next::IDLE; count],
-            pair_next: vec![Next::IDLE; count],
+            pair_next: vec![[Next::IDLE; 2]; count],
             queue: EventQueue::with_capacity(count),
             levels,
             events: Vec::new(),
@@ -382,12 +440,12 @@ impl ElasticCells {
 
     /// Ball `id`'s current plan.
     pub fn plan(&self, id: u32) -> &FlightPlan {
-        &self.plans[id as usize]
+        &self.plans[self.int[id as usize] as usize]
     }
 
     /// Ball `id`'s radius.
     pub fn radius(&self, id: u32) -> Real {
-        self.radius[id as usize]
+        self.radius[self.int[id as usize] as usize]
     }
 
     /// The statistics so far (collisions, bounces, cell events and stale entries re-checked;
@@ -447,22 +505,47 @@ impl ElasticCells {
         if time > until || time.is_nan() {
             return Ok(false);
         }
-        self.queue.pop();
+        // The ball stays at the head of the queue while its event is processed: every branch
+        // below schedules its next event, which moves it down once.
         if time > self.now {
             self.now = time;
         }
         let next = self.next[id as usize];
         self.next[id as usize] = Next::IDLE;
         let (kind, pair) = match next.event {
-            Event::Idle => ("recheck", (id, id)),
+            Event::Idle => {
+                self.queue.remove(id);
+                ("recheck", (id, id))
+            }
+            Event::Recheck => {
+                self.predict(id, false);
+                ("recheck", (id, id))
+            }
             Event::Pair {
                 other,
                 counter,
                 graze,
             } => {
                 if self.counter[other as usize] != counter {
-                    self.predict(id, false);
-                    ("recheck", (id, other))
+                    let second = self.pair_next[id as usize][1];
+                    if matches!(second.event, Event::Pair { .. }) {
+                        let rest = Next {
+                            event: Event::Recheck,
+                            ..second
+                        };
+                        self.pair_next[id as usize] = [second, rest];
+                        self.settle(id);
+                    } else {
+                        self.predict(id, false);
+                    }
+                    (
+                        if matches!(second.event, Event::Pair { .. }) {
+                            "stale"
+                        } else {
+                            "recheck"
+                        },
+                        (id, other),
+                    )
                 } else {
                     self.fire_pair(id, other, graze);
                     ("collision", (id, other))
@@ -500,7 +583,8 @@ impl ElasticCells {
         };
         *self.stats.events_by_kind.entry(kind).or_insert(0) += 1;
         self.sample();
-        self.zeno.count(self.now, self.len(), pair.0, pair.1)?;
+        let (a, b) = (self.ext[pair.0 as usize], self.ext[pair.1 as usize]);
+        self.zeno.count(self.now, self.len(), a, b)?;
         Ok(true)
     }
 
@@ -535,6 +619,7 @@ impl ElasticCells {
     }
 
     fn log(&mut self, a: u32, b: u32) {
+        let (a, b) = (self.ext[a as usize], self.ext[b as usize]);
         self.stats.begins += 1;
         self.events.push(ContactEvent {
             time: self.now,
@@ -565,17 +650,40 @@ impl ElasticCells {
         let threshold2 = reach * reach;
         let db = ma.at(base) - mb.at(base);
         let c0 = db.dot(db) - threshold2;
+        let v = ma.velocity - mb.velocity;
+        let c1 = 2.0 * db.dot(v);
+        if c0 <= 0.0 && c1 > 0.0 && base == self.now {
+            // In contact now (just met, within rounding) and moving apart: the walk starts
+            // inside or at zero, and the gap only grows.
+            return None;
+        }
         if c0 > 0.0 {
-            let d = ma.at(self.now) - mb.at(self.now);
-            if d.dot(d) - threshold2 > 0.0 {
-                let v = ma.velocity - mb.velocity;
-                let c1 = 2.0 * db.dot(v);
+            let gap_now = if base == self.now {
+                c0
+            } else {
+                let d = ma.at(self.now) - mb.at(self.now);
+                d.dot(d) - threshold2
+            };
+            if gap_now > 0.0 {
                 if c1 >= 0.0 {
                     return None;
                 }
-                let (p, q) = (4.0 * v.dot(v) * c0, c1 * c1);
+                let c2 = v.dot(v);
+                let (p, q) = (4.0 * c2 * c0, c1 * c1);
                 if p - q > 1e-6 * (p + q) {
                     return None;
+                }
+                // A clear first contact: the gap (the same coefficients as the gap polynomial
+                // at `base`) has two roots ahead, and the walk would report the first as a
+                // begin. It is taken directly, bit for bit the walk's, unless the pair has
+                // events consumed (a graze) or the root is not clearly after now.
+                let mut roots = [(0.0, false); 4];
+                if q - p > 1e-6 * (p + q)
+                    && quadratic_roots(c0, c1, c2, &mut roots) == 2
+                    && base + roots[0].0 > self.now
+                    && !self.skips[a as usize].iter().any(|s| s.0 == b)
+                {
+                    return Some((base + roots[0].0, false));
                 }
             }
         }
@@ -620,7 +728,7 @@ impl ElasticCells {
     fn predict(&mut self, id: u32, offer: bool) {
         let mut others = std::mem::take(&mut self.neighbour_buffer);
         self.neighbours(id, &mut others);
-        self.pair_next[id as usize] = Next::IDLE;
+        self.pair_next[id as usize] = [Next::IDLE; 2];
         self.predict_with(id, &others, offer);
         others.clear();
         self.neighbour_buffer = others;
@@ -672,28 +780,16 @@ impl ElasticCells {
         self.predict_with(id, &[], true);
     }
 
-    /// Ball `id`'s next event: the earliest of its wall contact, its cell event, its earliest
-    /// pair event known, and its pairs with `others` (offered to them with `offer`).
+    /// Ball `id`'s next event: the earliest of its wall contact, its cell event, its two
+    /// earliest pair events known, and its pairs with `others` (offered to them with `offer`).
     fn predict_with(&mut self, id: u32, others: &[u32], offer: bool) {
         let i = id as usize;
-        let mut best = Next::IDLE;
-        if let Some(hit) = self.wall_next(id) {
-            best = Next {
-                time: hit.time,
-                tie: TIE_WALL | u64::from(id),
-                event: Event::Wall(hit),
-            };
-        }
-        let cell = self.cell_event(id);
-        if cell.before(&best) {
-            best = cell;
-        }
-        let mut pair_best = self.pair_next[i];
+        let mut top = self.pair_next[i];
         for &other in others {
             let Some((time, graze)) = self.pair_due(id, other) else {
                 continue;
             };
-            let tie = pair_tie(id, other);
+            let tie = pair_tie(self.ext[i], self.ext[other as usize]);
             let mine = Next {
                 time,
                 tie,
@@ -703,9 +799,7 @@ impl ElasticCells {
                     graze,
                 },
             };
-            if mine.before(&pair_best) {
-                pair_best = mine;
-            }
+            keep_earliest(&mut top, mine);
             if offer {
                 let theirs = Next {
                     time,
@@ -717,18 +811,37 @@ impl ElasticCells {
                     },
                 };
                 let o = other as usize;
-                if theirs.before(&self.pair_next[o]) {
-                    self.pair_next[o] = theirs;
-                }
+                keep_earliest(&mut self.pair_next[o], theirs);
                 if theirs.before(&self.next[o]) {
                     self.next[o] = theirs;
                     self.queue.schedule(other, time, tie);
                 }
             }
         }
-        self.pair_next[i] = pair_best;
-        if pair_best.before(&best) {
-            best = pair_best;
+        self.pair_next[i] = top;
+        self.settle(id);
+    }
+
+    /// Schedules ball `id`'s next event: the earliest of its wall contact, its cell event and
+    /// its two earliest pair events known (the first of them on a tie).
+    fn settle(&mut self, id: u32) {
+        let i = id as usize;
+        let mut best = Next::IDLE;
+        if let Some(hit) = self.wall_next(id) {
+            best = Next {
+                time: hit.time,
+                tie: TIE_WALL | u64::from(self.ext[id as usize]),
+                event: Event::Wall(hit),
+            };
+        }
+        let cell = self.cell_event(id);
+        if cell.before(&best) {
+            best = cell;
+        }
+        for pair in self.pair_next[i] {
+            if pair.before(&best) {
+                best = pair;
+            }
         }
         self.next[i] = best;
         if best.time.is_finite() {
@@ -1137,10 +1250,17 @@ impl ElasticCells {
                     next.time
                 ));
             }
-            if self.pair_next[i].before(&next) {
+            let [first, second] = self.pair_next[i];
+            if first.before(&next) || second.before(&first) {
                 return Err(format!(
-                    "cells: ball {id}'s pair event at {} comes before its next event at {}",
-                    self.pair_next[i].time, next.time
+                    "cells: ball {id}'s pair events at {} and {} are out of order with its \
+                     next event at {}",
+                    first.time, second.time, next.time
+                ));
+            }
+            if first.time.is_infinite() && matches!(second.event, Event::Pair { .. }) {
+                return Err(format!(
+                    "cells: ball {id} has a second pair event and no first"
                 ));
             }
             if next.time < self.now {

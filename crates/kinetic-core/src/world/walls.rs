@@ -64,6 +64,23 @@ pub(crate) fn wall_hit(
     for axis in 0..dims {
         for (upper, at) in [(false, walls.min[axis]), (true, walls.max[axis])] {
             let w = wall_gap(&centre, r, axis, at, upper);
+            if w.c[2] == 0.0 && w.c[0] > 0.0 {
+                // Linear motion, apart: the walk's answer directly. Moving away (or along)
+                // never hits; moving in hits at the single root of the gap.
+                let tau = -w.c[0] / w.c[1];
+                if w.c[1] < 0.0
+                    && tau > 0.0
+                    && tau.is_finite()
+                    && best.is_none_or(|b| now + tau < b.time)
+                {
+                    best = Some(WallHit {
+                        time: now + tau,
+                        axis,
+                        upper,
+                    });
+                }
+                continue;
+            }
             let mut walk = Walk::elastic(&w, now, now, &w);
             while let Some((_, _, Due::Graze)) = walk.due {
                 walk.consume(Response::Elastic);
