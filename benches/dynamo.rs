@@ -1,7 +1,8 @@
 //! Hard-sphere systems, kinetic-collide against DynamO, side by side in one run.
 //!
 //! ```text
-//! cargo bench --bench dynamo -- [--dynamo DIR] [--collisions C] [--systems LIST] [--out FILE]
+//! cargo bench --bench dynamo -- [--dynamo DIR] [--collisions C] [--systems LIST] [--repeat K]
+//!                                [--dynamo-budget S] [--out FILE]
 //! ```
 //!
 //! For each system (`gas:N` or `mix:RATIO:N`, default: the gas at 4000, 32000 and 256000, the
@@ -9,7 +10,8 @@
 //! generator, seed 1), runs it on the chosen structure in a fresh process (the tool's `run`
 //! minus file output: the event log is formatted as it goes and dropped), and reports
 //! collisions per second, the process's peak memory per sphere, and the wall time for `C`
-//! collisions (default 1e6).
+//! collisions (default 1e6). Each side runs K times (default 3), interleaved, and the row
+//! shows each side's median run: timings on a shared machine vary by 10-30% from run to run.
 //!
 //! DynamO: pass `--dynamo DIR` with `DIR/dynarun` built from its public source (nothing of it
 //! is in this repository). It runs the same spheres from the same start (positions and
@@ -248,26 +250,58 @@ fn dynamo_config(scene: &kinetic_collide::scene::Scene, h: &HardSpheres) -> Stri
     x
 }
 
-/// DynamO on the same system, from the same start: a probe of 2e4 collisions sizes the
-/// measured run to the budget; collisions per second are DynamO's own `EventsPerSec` (its
-/// run time without reading the configuration), memory is the process's peak.
-fn dynamo(dir: &Path, system: System, collisions: f64, budget: f64) -> Result<Measured, String> {
-    let work = std::env::temp_dir().join(format!("kinetic-dynamo-{}", std::process::id()));
-    std::fs::create_dir_all(&work).map_err(|e| e.to_string())?;
-    let h = system.spheres(collisions);
-    let scene = h.build().map_err(|e| e.to_string())?;
-    let config = work.join("config.xml");
-    std::fs::write(&config, dynamo_config(&scene, &h)).map_err(|e| e.to_string())?;
-    let probe = 2e4f64.min(collisions);
-    let (rate, _) = dynarun(dir, &work, &config, probe)?;
-    let count = collisions.min((budget * rate).max(probe)).round();
-    let (rate, peak_kb) = dynarun(dir, &work, &config, count)?;
-    let _ = std::fs::remove_dir_all(&work);
-    Ok(Measured {
-        collisions: count,
-        seconds: count / rate,
-        peak_kb,
-    })
+/// DynamO on one system: its configuration written to a work folder, and the number of
+/// collisions each measured run makes.
+struct DynamoRun<'a> {
+    dir: &'a Path,
+    work: PathBuf,
+    config: PathBuf,
+    count: f64,
+}
+
+impl<'a> DynamoRun<'a> {
+    /// The same system from the same start; a probe of 2e4 collisions sizes each measured
+    /// run to the budget.
+    fn new(dir: &'a Path, system: System, collisions: f64, budget: f64) -> Result<Self, String> {
+        let work = std::env::temp_dir().join(format!("kinetic-dynamo-{}", std::process::id()));
+        std::fs::create_dir_all(&work).map_err(|e| e.to_string())?;
+        let h = system.spheres(collisions);
+        let scene = h.build().map_err(|e| e.to_string())?;
+        let config = work.join("config.xml");
+        std::fs::write(&config, dynamo_config(&scene, &h)).map_err(|e| e.to_string())?;
+        let probe = 2e4f64.min(collisions);
+        let (rate, _) = dynarun(dir, &work, &config, probe)?;
+        let count = collisions.min((budget * rate).max(probe)).round();
+        Ok(DynamoRun {
+            dir,
+            work,
+            config,
+            count,
+        })
+    }
+
+    /// One measured run: collisions per second are DynamO's own `EventsPerSec` (its run
+    /// time without reading the configuration), memory is the process's peak.
+    fn measure(&self) -> Result<Measured, String> {
+        let (rate, peak_kb) = dynarun(self.dir, &self.work, &self.config, self.count)?;
+        Ok(Measured {
+            collisions: self.count,
+            seconds: self.count / rate,
+            peak_kb,
+        })
+    }
+}
+
+impl Drop for DynamoRun<'_> {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.work);
+    }
+}
+
+/// The run of median rate.
+fn median(mut runs: Vec<Measured>) -> Option<Measured> {
+    runs.sort_by(|a, b| a.rate().total_cmp(&b.rate()));
+    runs.get(runs.len() / 2).copied()
 }
 
 /// One `dynarun` for `count` collisions: its collisions per second and peak KiB.
@@ -308,6 +342,7 @@ fn main() {
     let mut dynamo_dir: Option<PathBuf> = None;
     let mut collisions = 1e6;
     let mut budget = 120.0;
+    let mut repeat = 3usize;
     let mut out = PathBuf::from("target/dynamo-bench.md");
     let mut systems: Vec<System> = [
         "gas:4000",
@@ -324,10 +359,14 @@ fn main() {
     while let Some(a) = it.next() {
         let mut value = || it.next().cloned().unwrap_or_default();
         match a.as_str() {
-            "--dynamo" => dynamo_dir = Some(PathBuf::from(value())),
+            "--dynamo" => {
+                let dir = PathBuf::from(value());
+                dynamo_dir = Some(std::fs::canonicalize(&dir).unwrap_or(dir));
+            }
             "--collisions" => collisions = value().parse().expect("--collisions: a number"),
             "--dynamo-budget" => budget = value().parse().expect("--dynamo-budget: seconds"),
             "--out" => out = PathBuf::from(value()),
+            "--repeat" => repeat = value().parse::<usize>().expect("--repeat: a count").max(1),
             "--systems" => {
                 systems = value()
                     .split(',')
@@ -345,13 +384,37 @@ fn main() {
     );
     for system in systems {
         let name = system.name();
-        eprintln!("{name}: kinetic-collide ...");
-        let k = match ours(system, collisions) {
-            Ok(k) => k,
-            Err(e) => {
-                eprintln!("{name}: {e}");
-                continue;
+        // Each side runs `repeat` times, the two interleaved so that both meet the same
+        // load on the machine; the row shows each side's median run.
+        let dynamo = match dynamo_dir.as_deref() {
+            Some(d) => {
+                eprintln!("{name}: DynamO probe ...");
+                DynamoRun::new(d, system, collisions, budget).map(Some)
             }
+            None => Ok(None),
+        };
+        let (mut ours_runs, mut dynamo_runs) = (Vec::new(), Vec::new());
+        let mut failed = None;
+        for r in 1..=repeat {
+            eprintln!("{name}: kinetic-collide, run {r} of {repeat} ...");
+            match ours(system, collisions) {
+                Ok(k) => ours_runs.push(k),
+                Err(e) => {
+                    failed = Some(e);
+                    break;
+                }
+            }
+            if let Ok(Some(d)) = &dynamo {
+                eprintln!("{name}: DynamO, run {r} of {repeat} ...");
+                match d.measure() {
+                    Ok(m) => dynamo_runs.push(m),
+                    Err(e) => eprintln!("{name}: DynamO: {e}"),
+                }
+            }
+        }
+        let Some(k) = median(ours_runs) else {
+            eprintln!("{name}: {}", failed.unwrap_or_default());
+            continue;
         };
         let n = system.n as f64;
         let mut row = format!(
@@ -361,11 +424,8 @@ fn main() {
             k.peak_kb * 1024.0 / n,
             1e6 / k.rate()
         );
-        match dynamo_dir.as_deref().map(|d| {
-            eprintln!("{name}: DynamO ...");
-            dynamo(d, system, collisions, budget)
-        }) {
-            Some(Ok(d)) => {
+        match (dynamo, median(dynamo_runs)) {
+            (Ok(Some(_)), Some(d)) => {
                 let _ = write!(
                     row,
                     " {:.0} | {:.0} B | {:.2} s{} | {:.1}x |",
@@ -376,11 +436,11 @@ fn main() {
                     k.rate() / d.rate()
                 );
             }
-            Some(Err(e)) => {
+            (Err(e), _) => {
                 eprintln!("{name}: DynamO: {e}");
                 row.push_str(" - | - | - | - |");
             }
-            None => row.push_str(" - | - | - | - |"),
+            _ => row.push_str(" - | - | - | - |"),
         }
         eprintln!("{row}");
         table.push_str(&row);

@@ -33,8 +33,8 @@ enum Command {
         /// Where to write the statistics (JSON).
         #[arg(long)]
         stats: Option<PathBuf>,
-        /// The kinetic structure: rolling-tree, rolling-global-lists, sweep, guards or
-        /// brute-force (default: chosen from the scene).
+        /// The kinetic structure: rolling-tree, rolling-global-lists, sweep, guards, grid,
+        /// cells or brute-force (default: chosen from the scene).
         #[arg(long)]
         structure: Option<String>,
         /// Also render N frames at even times over the horizon, as PNG.

@@ -8,6 +8,7 @@ use kinetic_collide::run::{StructureName, run_scene};
 use kinetic_collide::scene::{Scene, outer_radius};
 use kinetic_collide::scenes::BallScene;
 use kinetic_collide::{ContactEvent, ElasticCells, Response, WorldKind};
+use std::collections::BTreeMap;
 
 /// The scene's balls on the cell grid.
 fn cells_of(scene: &Scene) -> ElasticCells {
@@ -20,7 +21,8 @@ fn cells_of(scene: &Scene) -> ElasticCells {
 }
 
 /// Runs the scene on the cell grid, auditing it after every event.
-fn cells_audited(scene: &Scene) -> Vec<ContactEvent> {
+/// The scene's contact log on the cell grid, audited after every event, and its events by kind.
+fn cells_audited(scene: &Scene) -> (Vec<ContactEvent>, BTreeMap<&'static str, u64>) {
     let mut cells = cells_of(scene);
     cells.validate().unwrap();
     while cells.step(scene.horizon).unwrap() {
@@ -29,7 +31,7 @@ fn cells_audited(scene: &Scene) -> Vec<ContactEvent> {
             .unwrap_or_else(|e| panic!("at t = {}: {e}", cells.now()));
     }
     cells.advance_to(scene.horizon).unwrap();
-    cells.drain_events()
+    (cells.drain_events(), cells.stats().events_by_kind.clone())
 }
 
 /// Small hard-sphere systems: a gas and mixtures (one to a few large balls among small ones).
@@ -69,6 +71,7 @@ fn small_systems() -> Vec<(String, Scene)> {
 
 #[test]
 fn cells_give_the_brute_force_log_bit_for_bit() {
+    let mut kinds: BTreeMap<&'static str, u64> = BTreeMap::new();
     for (name, scene) in small_systems() {
         assert_eq!(
             kinetic_collide::run::choose_structure(&scene),
@@ -76,7 +79,10 @@ fn cells_give_the_brute_force_log_bit_for_bit() {
             "{name}"
         );
         let reference = common::run_audited(&scene, StructureName::BruteForce);
-        let got = cells_audited(&scene);
+        let (got, by_kind) = cells_audited(&scene);
+        for (kind, n) in by_kind {
+            *kinds.entry(kind).or_default() += n;
+        }
         // At least the first 200 collisions are compared, pairs, order and times.
         assert!(
             reference.len() >= 200,
@@ -87,6 +93,14 @@ fn cells_give_the_brute_force_log_bit_for_bit() {
         for (k, (g, r)) in got.iter().zip(&reference).enumerate() {
             assert_eq!(g, r, "{name}: collision {k}");
         }
+    }
+    // Every way an event is handled was met: stale first events replaced by the second,
+    // full re-predictions, crossings, bounces and collisions.
+    for kind in ["stale", "recheck", "crossing", "bounce", "collision"] {
+        assert!(
+            kinds.get(kind).is_some_and(|&n| n > 0),
+            "no {kind}: {kinds:?}"
+        );
     }
 }
 

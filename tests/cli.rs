@@ -548,3 +548,20 @@ fn generate_writes_hard_spheres_that_run_on_the_cell_grid() {
         assert!(!bad.exists());
     }
 }
+
+#[test]
+fn run_help_names_every_structure() {
+    let out = tool().args(["run", "--help"]).output().expect("runs");
+    assert!(out.status.success());
+    // clap wraps the help text: compare with the line breaks taken out.
+    let help = String::from_utf8_lossy(&out.stdout)
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ");
+    for (name, _) in kinetic_collide::run::StructureName::ALL {
+        assert!(
+            help.contains(name),
+            "`run --help` does not name {name}: {help}"
+        );
+    }
+}

@@ -2,8 +2,8 @@
 //! one run: whole step, broad-phase time (rapier's own counters) and pairs handed to the
 //! narrow phase.
 //!
-//! `cargo bench -p kinetic-rapier --bench rapier -- [N...] [--steps S]` (default N = 1000
-//! 10000 50000, S = 120). Prints a markdown table.
+//! `cargo bench -p kinetic-rapier --bench rapier -- [N...] [--steps S] [--scenes rain,debris]`
+//! (default N = 1000 10000 50000, S = 120, both scenes). Prints a markdown table.
 
 use kinetic_flight::Choice;
 use kinetic_rapier::KineticBroadPhase;
@@ -75,10 +75,14 @@ fn main() {
         .collect();
     let mut sizes = Vec::new();
     let mut steps = 120;
+    let mut only: Option<Vec<String>> = None;
     let mut it = args.iter();
     while let Some(a) = it.next() {
         if a == "--steps" {
             steps = it.next().and_then(|s| s.parse().ok()).expect("--steps S");
+        } else if a == "--scenes" {
+            let list = it.next().expect("--scenes rain,debris");
+            only = Some(list.split(',').map(str::to_string).collect());
         } else if let Ok(n) = a.parse::<usize>() {
             sizes.push(n);
         }
@@ -100,6 +104,9 @@ fn main() {
             ("debris", |n| debris(n, 2)),
         ];
         for (name, make) in scenes {
+            if only.as_ref().is_some_and(|o| !o.iter().any(|s| s == name)) {
+                continue;
+            }
             let d = run(make(n), &mut DefaultBroadPhase::new(), steps);
             let mut kbp = match std::env::var("KINETIC_STRUCTURE").as_deref() {
                 Ok("grid") => KineticBroadPhase::default().with_structure(Choice::Grid),
