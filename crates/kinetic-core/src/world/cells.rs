@@ -535,17 +535,11 @@ impl ElasticCells {
                         };
                         self.pair_next[id as usize] = [second, rest];
                         self.settle(id);
+                        ("stale", (id, other))
                     } else {
                         self.predict(id, false);
+                        ("recheck", (id, other))
                     }
-                    (
-                        if matches!(second.event, Event::Pair { .. }) {
-                            "stale"
-                        } else {
-                            "recheck"
-                        },
-                        (id, other),
-                    )
                 } else {
                     self.fire_pair(id, other, graze);
                     ("collision", (id, other))
@@ -576,7 +570,8 @@ impl ElasticCells {
                 if hi == up {
                     self.predict_entered(id, Some(level), axis as usize, up);
                 } else {
-                    self.predict_kept(id);
+                    // The block only left cells: the remembered pair events still stand.
+                    self.settle(id);
                 }
                 ("crossing", (id, id))
             }
@@ -736,8 +731,8 @@ impl ElasticCells {
 
     /// Ball `id` crossed into new cells (its home cell moved along `axis`, or with `block`,
     /// that block's end grew along `axis`): its pairs with the balls of the cells entered
-    /// are predicted and offered, and its earliest pair event known so far is kept. The
-    /// balls it left behind are still reached by that event or by a later full prediction.
+    /// are predicted and offered, and its two earliest pair events known are kept. The balls
+    /// it left behind are still reached by those events or by a later full prediction.
     fn predict_entered(&mut self, id: u32, block: Option<u8>, axis: usize, up: bool) {
         let mut others = std::mem::take(&mut self.neighbour_buffer);
         let i = id as usize;
@@ -745,8 +740,7 @@ impl ElasticCells {
             None => {
                 let l = &self.levels[self.level[i] as usize];
                 let home = self.home[i];
-                let mut lo = home.map(|c| c.saturating_sub(1));
-                let mut hi = [0, 1, 2].map(|k| (home[k] + 1).min(l.n[k] - 1));
+                let (mut lo, mut hi) = Self::around(l, home);
                 let far = if up {
                     home[axis] + 1
                 } else {
@@ -772,12 +766,6 @@ impl ElasticCells {
         self.predict_with(id, &others, true);
         others.clear();
         self.neighbour_buffer = others;
-    }
-
-    /// Ball `id`'s neighbours shrank (a block end left cells): its earliest pair event known
-    /// still stands; only its cell and wall events are recomputed.
-    fn predict_kept(&mut self, id: u32) {
-        self.predict_with(id, &[], true);
     }
 
     /// Ball `id`'s next event: the earliest of its wall contact, its cell event, its two
@@ -849,6 +837,14 @@ impl ElasticCells {
         } else {
             self.queue.remove(id);
         }
+    }
+
+    /// The cells of level `l` next to `home` (the 27 about it, clipped to the grid): the
+    /// first and last per axis.
+    fn around(l: &Level, home: [u32; 3]) -> ([u32; 3], [u32; 3]) {
+        let lo = home.map(|c| c.saturating_sub(1));
+        let hi = [0, 1, 2].map(|k| (home[k] + 1).min(l.n[k] - 1));
+        (lo, hi)
     }
 
     /// Pushes the home members (other than `skip`) of the cells `lo..=hi` of level `l`.
@@ -1107,8 +1103,7 @@ impl ElasticCells {
         let i = id as usize;
         let l = &self.levels[self.level[i] as usize];
         let home = self.home[i];
-        let lo = home.map(|c| c.saturating_sub(1));
-        let hi = [0, 1, 2].map(|k| (home[k] + 1).min(l.n[k] - 1));
+        let (lo, hi) = Self::around(l, home);
         self.members(l, lo, hi, id, out);
         if let Some(v) = l.visitors.get(&l.index(home)) {
             out.extend_from_slice(v);

@@ -104,3 +104,79 @@ pub(crate) fn bounced(plan: &crate::FlightPlan, hit: WallHit, now: Real) -> crat
     }
     plan.replanned(now, v)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::FlightPlan;
+    use crate::math::Vec3;
+    use rand::{Rng, SeedableRng};
+
+    /// `wall_hit` with every wall found by the root walk, as it was before the closed form.
+    fn by_walk(
+        plan: &FlightPlan,
+        r: Real,
+        walls: &super::super::Walls,
+        now: Real,
+    ) -> Option<WallHit> {
+        let centre = plan.local_coefficients(now);
+        let mut best: Option<WallHit> = None;
+        for axis in 0..3 {
+            for (upper, at) in [(false, walls.min[axis]), (true, walls.max[axis])] {
+                let w = wall_gap(&centre, r, axis, at, upper);
+                let mut walk = Walk::elastic(&w, now, now, &w);
+                while let Some((_, _, Due::Graze)) = walk.due {
+                    walk.consume(Response::Elastic);
+                }
+                if let Some((time, _, _)) = walk.due
+                    && best.is_none_or(|b| time < b.time)
+                {
+                    best = Some(WallHit { time, axis, upper });
+                }
+            }
+        }
+        best
+    }
+
+    #[test]
+    fn linear_wall_contacts_are_the_walks_bit_for_bit() {
+        let walls = super::super::Walls {
+            min: Vec3::new(-3.0, 0.0, 1e6),
+            max: Vec3::new(5.0, 0.5, 1e6 + 40.0),
+        };
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        let mut hits = 0;
+        for k in 0..20000 {
+            let r = rng.random_range(0.001..0.2);
+            let p = Vec3::new(
+                rng.random_range(walls.min.x + r..walls.max.x - r),
+                rng.random_range(walls.min.y + r..walls.max.y - r),
+                rng.random_range(walls.min.z + r..walls.max.z - r),
+            );
+            // Some axes at rest, some speeds tiny, some huge; a few balls touching a wall.
+            let mut v = Vec3::new(
+                rng.random_range(-2.0..2.0),
+                rng.random_range(-2.0..2.0),
+                rng.random_range(-2.0..2.0),
+            );
+            match k % 5 {
+                0 => v.x = 0.0,
+                1 => v *= 1e-12,
+                2 => v *= 1e9,
+                _ => {}
+            }
+            let p = if k % 7 == 0 {
+                Vec3::new(walls.min.x + r, p.y, p.z)
+            } else {
+                p
+            };
+            let t0 = rng.random_range(0.0..10.0);
+            let plan = FlightPlan::linear(p, v).starting_at(t0);
+            let now = t0 + rng.random_range(0.0..0.01);
+            let got = wall_hit(&plan, r, &walls, 3, now);
+            assert_eq!(got, by_walk(&plan, r, &walls, now), "ball {k}");
+            hits += usize::from(got.is_some());
+        }
+        assert!(hits > 15000, "{hits} of 20000 balls reach a wall");
+    }
+}
