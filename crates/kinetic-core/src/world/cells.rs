@@ -5,11 +5,14 @@
 //! balls (the same gap polynomials and root walks, so the event log is the world's, bit for
 //! bit), a wall certificate per ball, and the cell certificates that say which pairs are
 //! nearby. What differs is how they are kept: instead of one queue entry per pair, each ball
-//! keeps only its earliest event, as DynamO does. A ball whose plan changes re-predicts its
-//! pairs and offers each new failure time to the partner, which takes it if it is earlier
-//! than its own; an entry whose partner changed plan since is stale, and a stale entry that
-//! comes due only makes its ball re-predict. A stale entry is never later than its ball's
-//! true next event, so no event is missed.
+//! has one queue entry, its earliest event, and remembers its two earliest pair events, as
+//! DynamO keeps a few events per particle. A ball whose plan changes re-predicts its pairs
+//! and offers each new failure time to the partner, which keeps it if it is among its two
+//! earliest; an entry whose partner changed plan since is stale. A stale first event that
+//! comes due gives way to the second; past the second, the ball re-predicts. A stale entry is
+//! never later than its ball's true next event, so no event is missed. Most pairs are decided
+//! in closed form (apart and parting, clearly missing, a clear first contact) with the walk's
+//! own coefficients and root formula, so the results are the walk's bit for bit.
 //!
 //! - Levels: distinct diameters are grouped by factors of two; level `L` has cells at least
 //!   as wide as its largest diameter, and each ball's centre has a home cell at its level.
