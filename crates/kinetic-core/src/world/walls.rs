@@ -5,6 +5,7 @@ use super::pairs::{Due, Walk};
 use super::{Response, World};
 use crate::certificates::wall_gap;
 use crate::math::Real;
+use crate::poly::Poly;
 
 /// A ball's next wall contact: which axis, which side.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -59,33 +60,24 @@ pub(crate) fn wall_hit(
     dims: usize,
     now: Real,
 ) -> Option<WallHit> {
+    earliest_wall(plan, r, walls, dims, now, wall_time)
+}
+
+/// The earliest wall contact, each wall's gap polynomial timed by `time_of`.
+fn earliest_wall(
+    plan: &crate::FlightPlan,
+    r: Real,
+    walls: &super::Walls,
+    dims: usize,
+    now: Real,
+    time_of: fn(&Poly, Real) -> Option<Real>,
+) -> Option<WallHit> {
     let centre = plan.local_coefficients(now);
     let mut best: Option<WallHit> = None;
     for axis in 0..dims {
         for (upper, at) in [(false, walls.min[axis]), (true, walls.max[axis])] {
             let w = wall_gap(&centre, r, axis, at, upper);
-            if w.c[2] == 0.0 && w.c[0] > 0.0 {
-                // Linear motion, apart: the walk's answer directly. Moving away (or along)
-                // never hits; moving in hits at the single root of the gap.
-                let tau = -w.c[0] / w.c[1];
-                if w.c[1] < 0.0
-                    && tau > 0.0
-                    && tau.is_finite()
-                    && best.is_none_or(|b| now + tau < b.time)
-                {
-                    best = Some(WallHit {
-                        time: now + tau,
-                        axis,
-                        upper,
-                    });
-                }
-                continue;
-            }
-            let mut walk = Walk::elastic(&w, now, now, &w);
-            while let Some((_, _, Due::Graze)) = walk.due {
-                walk.consume(Response::Elastic);
-            }
-            if let Some((time, _, _)) = walk.due
+            if let Some(time) = time_of(&w, now)
                 && best.is_none_or(|b| time < b.time)
             {
                 best = Some(WallHit { time, axis, upper });
@@ -93,6 +85,26 @@ pub(crate) fn wall_hit(
         }
     }
     best
+}
+
+/// When the wall gap `w` (in time after `now`) first closes: for a linear plan that is apart,
+/// the walk's answer in closed form (moving away or along never hits; moving in hits at the
+/// single root), otherwise the walk's.
+fn wall_time(w: &Poly, now: Real) -> Option<Real> {
+    if w.c[2] == 0.0 && w.c[0] > 0.0 {
+        let tau = -w.c[0] / w.c[1];
+        return (w.c[1] < 0.0 && tau > 0.0 && tau.is_finite()).then_some(now + tau);
+    }
+    walked_wall_time(w, now)
+}
+
+/// When the wall gap `w` first closes, by the root walk (grazes skipped).
+fn walked_wall_time(w: &Poly, now: Real) -> Option<Real> {
+    let mut walk = Walk::elastic(w, now, now, w);
+    while let Some((_, _, Due::Graze)) = walk.due {
+        walk.consume(Response::Elastic);
+    }
+    walk.due.map(|(time, _, _)| time)
 }
 
 /// The plan of a ball that reaches a wall at `now`: its velocity across the wall reversed if
@@ -111,32 +123,6 @@ mod tests {
     use crate::FlightPlan;
     use crate::math::Vec3;
     use rand::{Rng, SeedableRng};
-
-    /// `wall_hit` with every wall found by the root walk, as it was before the closed form.
-    fn by_walk(
-        plan: &FlightPlan,
-        r: Real,
-        walls: &super::super::Walls,
-        now: Real,
-    ) -> Option<WallHit> {
-        let centre = plan.local_coefficients(now);
-        let mut best: Option<WallHit> = None;
-        for axis in 0..3 {
-            for (upper, at) in [(false, walls.min[axis]), (true, walls.max[axis])] {
-                let w = wall_gap(&centre, r, axis, at, upper);
-                let mut walk = Walk::elastic(&w, now, now, &w);
-                while let Some((_, _, Due::Graze)) = walk.due {
-                    walk.consume(Response::Elastic);
-                }
-                if let Some((time, _, _)) = walk.due
-                    && best.is_none_or(|b| time < b.time)
-                {
-                    best = Some(WallHit { time, axis, upper });
-                }
-            }
-        }
-        best
-    }
 
     #[test]
     fn linear_wall_contacts_are_the_walks_bit_for_bit() {
@@ -174,7 +160,8 @@ mod tests {
             let plan = FlightPlan::linear(p, v).starting_at(t0);
             let now = t0 + rng.random_range(0.0..0.01);
             let got = wall_hit(&plan, r, &walls, 3, now);
-            assert_eq!(got, by_walk(&plan, r, &walls, now), "ball {k}");
+            let walked = earliest_wall(&plan, r, &walls, 3, now, walked_wall_time);
+            assert_eq!(got, walked, "ball {k}");
             hits += usize::from(got.is_some());
         }
         assert!(hits > 15000, "{hits} of 20000 balls reach a wall");
