@@ -3,9 +3,12 @@
 //! two boxes share a grid cell, so the work follows the objects' neighbourhoods instead of
 //! three global orders: a body falling past a pile a kilometre away costs nothing.
 //!
-//! - Levels: level `L` has cubic cells of side `base 2^L`. An object lives at the lowest level
+//! - Levels: level `L` has cubic cells of side `base r^L`. An object lives at the lowest level
 //!   whose cells are at least as wide as its box, so its box spans at most two cells per axis
-//!   there. It is also a visitor at every occupied level above its own.
+//!   there. It is also a visitor at every occupied level above its own. The ratio `r` is a
+//!   power of two set by the first objects: 2 when their sizes are alike, wider when the
+//!   middle 98% of them spread over more than three octaves (8 for sizes over three orders
+//!   of magnitude), so that an object visits a few levels instead of one per octave.
 //! - Footprints: at each of its levels an object holds the range of cells its box overlaps.
 //!   Four certificates per axis keep it: each end of the box stays within the cell range. An
 //!   end that leaves the range extends it at once; an end that moved a whole cell inward
@@ -41,6 +44,12 @@ const HYSTERESIS: Real = 1e-6;
 /// The same, relative to the coordinates: several float spacings, so that a release is never
 /// undone by rounding at large coordinates.
 const HYSTERESIS_ABS: Real = 1e-12;
+
+/// Levels the middle 98% of the first objects' sizes are spread over, at most: the ratio of
+/// one level's cells to the next is the power of two that gives this.
+const BULK_LEVELS: Real = 3.0;
+/// The widest ratio between levels.
+const MAX_RATIO: Real = 16.0;
 
 /// The most a level's cells are widened for sparse objects.
 const MAX_WIDEN: Real = 64.0;
@@ -130,6 +139,8 @@ struct Slot {
 #[derive(Debug, Default)]
 pub struct Grid {
     base: Option<Real>,
+    /// The ratio of a level's cells to the level below's (a power of two), set with the base.
+    ratio: Real,
     /// Levels whose cells are wider than the level's size, by this power of two.
     widen: FxHashMap<i32, Real>,
     occupied: BTreeSet<i32>,
@@ -165,7 +176,7 @@ impl Grid {
     /// The side of level `level`'s cells: the level's own size, or wider where its objects
     /// were sparse when the level was first filled.
     fn cell_size(&self, level: i32) -> Real {
-        let own = self.base.unwrap_or(1.0) * (2.0 as Real).powi(level);
+        let own = self.base.unwrap_or(1.0) * self.ratio().powi(level);
         own * self.widen.get(&level).copied().unwrap_or(1.0)
     }
 
@@ -204,10 +215,14 @@ impl Grid {
         }
     }
 
+    fn ratio(&self) -> Real {
+        if self.ratio >= 2.0 { self.ratio } else { 2.0 }
+    }
+
     fn level_for(&self, width: Real) -> i32 {
         let base = self.base.unwrap_or(1.0);
         if width > 0.0 && width.is_finite() {
-            ((width / base).log2().ceil() as i32).clamp(-200, 200)
+            (((width / base).log2() / self.ratio().log2()).ceil() as i32).clamp(-200, 200)
         } else {
             0
         }
@@ -618,17 +633,25 @@ impl CandidateStructure for Grid {
         changes: &mut Vec<PairChange>,
     ) {
         if self.base.is_none() {
-            // The finest cells fit the smallest box.
-            let w = ids
+            // The finest cells fit the smallest box. Levels are a power of two apart, so that
+            // the middle 98% of sizes span about BULK_LEVELS levels: 2 for similar sizes, wider
+            // for a spread (fewer levels for each object to visit).
+            let mut w: Vec<Real> = ids
                 .iter()
                 .map(|&id| {
                     let (lo, hi) = box_ends(bodies, id);
                     (hi - lo).max_element()
                 })
                 .filter(|w| *w > 0.0 && w.is_finite())
-                .fold(Real::INFINITY, Real::min);
-            if w.is_finite() {
-                self.base = Some(w);
+                .collect();
+            if !w.is_empty() {
+                w.sort_unstable_by(Real::total_cmp);
+                let pick = |q: Real| w[((w.len() - 1) as Real * q).round() as usize];
+                let octaves = (pick(0.99) / pick(0.01)).log2();
+                self.base = Some(w[0]);
+                self.ratio = (2.0 as Real)
+                    .powf((octaves / BULK_LEVELS).ceil().max(1.0))
+                    .min(MAX_RATIO);
             }
         }
         self.widen_for(ids, bodies, now);
@@ -740,6 +763,7 @@ impl CandidateStructure for Grid {
             ("grid_pairs", self.pair_of.len() as f64),
             ("cells", self.cells.len() as f64),
             ("levels", self.occupied.len() as f64),
+            ("level_ratio", self.ratio()),
             ("crossings", self.crossings as f64),
             ("box_events", self.pair_events as f64),
         ]

@@ -56,16 +56,17 @@
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
+mod motions;
 mod pairs;
 mod proxy;
 pub mod scenes;
 
 use kinetic_core::{Body, CandidateStructure, FlightPlan, PairChange, Real, Shape, Vec3};
 use kinetic_flight::{Choice, ConvexShape, Grid, Guards, Sweep};
+use motions::ByBody;
 use pairs::{PairBook, PairOut};
 use proxy::{Hold, centre_of_mass, dvec, fit};
 use rapier3d::prelude::*;
-use rustc_hash::FxHashMap;
 
 /// Steps over which a body must stay within half its slack to be planned at rest.
 const REST_STEPS: Real = 30.0;
@@ -163,7 +164,7 @@ pub struct KineticBroadPhase {
     structure: Option<Structure>,
     bodies: Vec<Option<Body>>,
     proxies: Vec<Option<Proxy>>,
-    motions: FxHashMap<RigidBodyHandle, Motion>,
+    motions: ByBody<Motion>,
     /// Bodies whose plans are not at rest, in the order they started moving.
     moving: Vec<RigidBodyHandle>,
     /// Colliders whose proxies may be grown (checked when the positions move on).
@@ -205,7 +206,7 @@ impl KineticBroadPhase {
             structure: None,
             bodies: Vec::new(),
             proxies: Vec::new(),
-            motions: FxHashMap::default(),
+            motions: ByBody::default(),
             moving: Vec::new(),
             grown: Vec::new(),
             lag_reach: None,
@@ -290,8 +291,8 @@ impl KineticBroadPhase {
                 return Err(format!("collider {h:?} is not held"));
             }
         }
-        for (h, m) in &self.motions {
-            let Some(rb) = bodies.get(*h) else { continue };
+        for (h, m) in self.motions.iter() {
+            let Some(rb) = bodies.get(h) else { continue };
             let off = (centre_of_mass(rb) - m.plan.position_at(self.clock.pos)).length();
             if off > m.slack * (1.0 + 1e-6) {
                 return Err(format!(
@@ -331,7 +332,7 @@ impl KineticBroadPhase {
     fn plan_of(&self, hold: &Hold) -> FlightPlan {
         match *hold {
             Hold::Fixed { min, max } => FlightPlan::at_rest((min + max) / 2.0),
-            Hold::Moving { body, .. } => self.motions[&body].plan,
+            Hold::Moving { body, .. } => self.motions[body].plan,
         }
     }
 
@@ -356,11 +357,11 @@ impl KineticBroadPhase {
         self.changes = changes;
         let proxy = self.proxies[i as usize].take().expect("held");
         if let Hold::Moving { body, .. } = proxy.hold
-            && let Some(m) = self.motions.get_mut(&body)
+            && let Some(m) = self.motions.get_mut(body)
         {
             m.colliders.retain(|&c| c != i);
             if m.colliders.is_empty() {
-                self.motions.remove(&body);
+                self.motions.remove(body);
                 self.moving.retain(|&b| b != body);
             }
         }
@@ -414,7 +415,7 @@ impl KineticBroadPhase {
     /// Starts a motion record for a body seen for the first time, resting where it is.
     fn motion_for(&mut self, h: RigidBodyHandle, rb: &RigidBody, slack: Real) -> &mut Motion {
         let t = self.clock.pos;
-        let m = self.motions.entry(h).or_insert_with(|| Motion {
+        let m = self.motions.get_or_insert_with(h, || Motion {
             plan: FlightPlan::at_rest(centre_of_mass(rb)).starting_at(t),
             slack,
             colliders: Vec::new(),
@@ -456,7 +457,7 @@ impl KineticBroadPhase {
             let i = h.into_raw_parts().0;
             self.grow_slots(i);
             if let Hold::Moving { body, slack, .. } = hold {
-                let fresh = !self.motions.contains_key(&body);
+                let fresh = !self.motions.contains(body);
                 let m = self.motion_for(body, &bodies[body], slack);
                 m.colliders.push(i);
                 if fresh {
@@ -522,7 +523,7 @@ impl KineticBroadPhase {
         let g = self
             .moving
             .iter()
-            .map(|b| reach_over(&self.motions[b].plan, self.clock.pos, lag))
+            .map(|b| reach_over(&self.motions[*b].plan, self.clock.pos, lag))
             .fold(0.0, Real::max);
         self.lag_reach = Some(g);
         g
@@ -532,7 +533,7 @@ impl KineticBroadPhase {
         let lag = self.clock.kds - self.clock.pos;
         match *hold {
             Hold::Moving { body, .. } if lag > 0.0 => {
-                reach_over(&self.motions[&body].plan, self.clock.pos, lag)
+                reach_over(&self.motions[body].plan, self.clock.pos, lag)
             }
             _ => 0.0,
         }
@@ -553,11 +554,17 @@ impl KineticBroadPhase {
         };
         let t = self.clock.pos;
         let dt = self.clock.dt.max(params.dt as Real);
-        let m = self.motions.get_mut(&h).expect("a motion");
+        let m = self.motions.get_mut(h).expect("a motion");
         let x = centre_of_mass(rb);
         let substeps = params.num_solver_iterations.get() as Real;
         // Where rapier will put it by the end of the step if nothing touches it.
         let ballistic = fit(x, dvec(rb.linvel()), m.steady_a, t, dt, substeps);
+        let slack2 = m.slack * m.slack;
+        let off_now = (x - m.plan.position_at(t)).length_squared();
+        let off_end = (ballistic.position_at(t + dt) - m.plan.position_at(t + dt)).length_squared();
+        if !force && off_now <= slack2 && off_end <= slack2 {
+            return false;
+        }
         // A body that sleeps, or would stay within half its slack for the next
         // REST_STEPS steps (one resting in a pile), is planned at rest: its box ends then
         // stay put instead of swapping back and forth with its neighbours' as it jitters.
@@ -569,11 +576,6 @@ impl KineticBroadPhase {
         } else {
             ballistic
         };
-        let off_now = (x - m.plan.position_at(t)).length();
-        let off_end = (ballistic.position_at(t + dt) - m.plan.position_at(t + dt)).length();
-        if !force && off_now <= m.slack && off_end <= m.slack {
-            return false;
-        }
         m.plan = plan;
         let rest = plan.velocity == Vec3::ZERO && plan.acceleration == Vec3::ZERO;
         if !rest && !m.listed {
@@ -589,8 +591,8 @@ impl KineticBroadPhase {
         self.step.replans += 1;
         let level = self.clock.kds == self.clock.pos;
         let grow = if level { 0.0 } else { self.lag_growth() };
-        let plan = self.motions[&h].plan;
-        for i in self.motions[&h].colliders.clone() {
+        let plan = self.motions[h].plan;
+        for i in self.motions[h].colliders.clone() {
             let Some(proxy) = self.proxies[i as usize] else {
                 continue;
             };
@@ -681,6 +683,15 @@ impl BroadPhase for KineticBroadPhase {
         let mut new = Vec::new();
         let mut moved: Vec<RigidBodyHandle> = Vec::new();
         for &h in modified_colliders {
+            if !starts_step && self.known(h) {
+                // After a position update a held collider has only moved with its body (only
+                // the user changes shapes, parents and body types, at the start of a step).
+                let i = h.into_raw_parts().0 as usize;
+                if let Hold::Moving { body, .. } = self.proxies[i].expect("known").hold {
+                    moved.push(body);
+                }
+                continue;
+            }
             let Some(co) = colliders.get(h) else { continue };
             if !co.is_enabled() {
                 self.remove_collider(h);
@@ -692,13 +703,7 @@ impl BroadPhase for KineticBroadPhase {
             }
             let i = h.into_raw_parts().0 as usize;
             let held = self.proxies[i].expect("known").hold;
-            // Only the user changes shapes, parents and body types (at the start of a step);
-            // after a position update a held collider has only moved with its body.
-            let hold = if starts_step {
-                Hold::of(co, bodies, params, self.slack_fraction, self.min_slack)
-            } else {
-                held
-            };
+            let hold = Hold::of(co, bodies, params, self.slack_fraction, self.min_slack);
             if !held.same(&hold) {
                 // A new shape, body or body type: held afresh.
                 self.detach(i as u32, false);
@@ -711,7 +716,7 @@ impl BroadPhase for KineticBroadPhase {
         // Bodies that moved: what they showed of their acceleration, then their plans.
         for &b in &moved {
             let Some(rb) = bodies.get(b) else { continue };
-            let Some(m) = self.motions.get_mut(&b) else {
+            let Some(m) = self.motions.get_mut(b) else {
                 continue;
             };
             if m.seen == update && !starts_step {
@@ -752,10 +757,10 @@ impl BroadPhase for KineticBroadPhase {
             let mut k = 0;
             while k < self.moving.len() {
                 let b = self.moving[k];
-                let seen = self.motions.get(&b).is_some_and(|m| m.seen == update);
+                let seen = self.motions.get(b).is_some_and(|m| m.seen == update);
                 if !seen && bodies.contains(b) {
                     let t = self.clock.pos;
-                    let m = self.motions.get_mut(&b).expect("listed");
+                    let m = self.motions.get_mut(b).expect("listed");
                     let x = centre_of_mass(&bodies[b]);
                     m.plan = FlightPlan::at_rest(x).starting_at(t);
                     m.listed = false;
