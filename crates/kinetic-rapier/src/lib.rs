@@ -64,7 +64,7 @@ pub mod scenes;
 use kinetic_core::{Body, CandidateStructure, FlightPlan, PairChange, Real, Shape, Vec3};
 use kinetic_flight::{Choice, ConvexShape, Grid, Guards, Sweep};
 use motions::ByBody;
-use pairs::{PairBook, PairOut};
+use pairs::{PairBook, PairOut, proxies_meet};
 use proxy::{Hold, centre_of_mass, dvec, fit};
 use rapier3d::prelude::*;
 
@@ -285,7 +285,7 @@ impl KineticBroadPhase {
         if let Some(s) = &self.structure {
             s.validate(&self.bodies, self.clock.kds)?;
         }
-        self.book.audit(true)?;
+        self.book.audit(true, meet(&self.bodies, self.clock))?;
         for (h, co) in colliders.iter() {
             if co.is_enabled() && !self.known(h) {
                 return Err(format!("collider {h:?} is not held"));
@@ -630,13 +630,22 @@ impl KineticBroadPhase {
             if self.audit && self.audit_error.is_none() {
                 let r = s
                     .validate(&self.bodies, next)
-                    .and_then(|_| self.book.audit(false));
+                    .and_then(|_| self.book.audit(false, |_, _| true));
                 if let Err(e) = r {
                     self.audit_error = Some(format!("after the event at {next}: {e}"));
                 }
             }
         }
         self.clock.kds = self.clock.kds.max(t);
+    }
+}
+
+/// Whether the proxies of colliders `a` and `b` can meet within the window from the positions'
+/// time to the structure's (a missing proxy: yes).
+fn meet(bodies: &[Option<Body>], clock: Clock) -> impl Fn(u32, u32) -> bool + '_ {
+    move |a, b| match (&bodies[a as usize], &bodies[b as usize]) {
+        (Some(x), Some(y)) => proxies_meet(x, y, clock.pos, clock.kds),
+        _ => true,
     }
 }
 
@@ -799,7 +808,8 @@ impl BroadPhase for KineticBroadPhase {
         // Look ahead over the coming step.
         self.advance(self.clock.pos + self.clock.dt);
 
-        self.book.emit(self.clock.pos, &mut self.out);
+        self.book
+            .emit(self.clock.pos, meet(&self.bodies, self.clock), &mut self.out);
         for o in self.out.drain(..) {
             let (a, b, add) = match o {
                 PairOut::Add(a, b) => (a, b, true),

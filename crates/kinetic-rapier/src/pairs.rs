@@ -1,12 +1,15 @@
 //! The pairs handed to rapier: the structure's candidate pairs, counted as the structure adds
 //! and drops them, turned into `AddPair` and `DeletePair` events by rapier's rules.
 //!
-//! A pair is reported (`AddPair`) in the call during which it becomes a candidate at any
-//! moment of the window the call looks ahead over, and deleted (`DeletePair`) only in a
-//! later call whose whole window it is absent from: it stopped being a candidate before the
-//! positions' time and has not come back by the window's end.
+//! A candidate is handed to rapier (`AddPair`) in a call whose window (the positions' time to
+//! the end of the step the structure has looked ahead over) it is a candidate in at any
+//! moment, if the two proxies can meet within that window: two balls whose centres come within
+//! the sum of their radii ([`proxies_meet`]), or any other two shapes (their boxes overlap, or
+//! they would not be candidates). It is deleted (`DeletePair`) in a later call whose whole
+//! window it is absent from: it stopped being a candidate before the positions' time and has
+//! not come back by the window's end, or its two balls stay apart over the whole window.
 
-use kinetic_core::{PairChange, Real};
+use kinetic_core::{Body, PairChange, Real, Shape};
 use rustc_hash::FxHashMap;
 
 /// One pair's state.
@@ -21,7 +24,7 @@ struct PairState {
 }
 
 /// What the pair book asks rapier to do.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub(crate) enum PairOut {
     Add(u32, u32),
     Delete(u32, u32),
@@ -31,8 +34,6 @@ pub(crate) enum PairOut {
 #[derive(Debug, Default)]
 pub(crate) struct PairBook {
     pairs: FxHashMap<(u32, u32), PairState>,
-    /// Pairs whose count rose from 0 since the last emit.
-    added: Vec<(u32, u32)>,
     /// Pairs whose count fell to 0 and that rapier may still have.
     dropped: Vec<(u32, u32)>,
     reported: usize,
@@ -50,9 +51,7 @@ impl PairBook {
             });
             let before = e.count;
             e.count += c.delta;
-            if before <= 0 && e.count > 0 {
-                self.added.push(key);
-            } else if before > 0 && e.count <= 0 {
+            if before > 0 && e.count <= 0 {
                 e.dropped_at = t;
                 self.dropped.push(key);
             }
@@ -84,38 +83,43 @@ impl PairBook {
         }
     }
 
-    /// Emits the events of one call whose positions are at time `t_pos`: every pair that
-    /// became a candidate is added; a pair that dropped out before `t_pos` and is still out
-    /// is deleted.
-    pub(crate) fn emit(&mut self, t_pos: Real, out: &mut Vec<PairOut>) {
-        let mut keep = Vec::new();
-        for key in std::mem::take(&mut self.dropped) {
-            let Some(e) = self.pairs.get(&key).copied() else {
-                continue;
-            };
-            if e.count > 0 {
-                continue; // back in: it is dropped again when it next falls out
-            }
-            if e.dropped_at < t_pos {
+    /// Emits the events of one call whose positions are at time `t_pos`: a pair that dropped
+    /// out before `t_pos` and is still out is deleted; every other pair is added or deleted
+    /// as `meet` (whether its two proxies can meet within the call's window) says.
+    pub(crate) fn emit(
+        &mut self,
+        t_pos: Real,
+        meet: impl Fn(u32, u32) -> bool,
+        out: &mut Vec<PairOut>,
+    ) {
+        let mut reported = self.reported;
+        self.pairs.retain(|&(a, b), e| {
+            if e.count <= 0 && e.dropped_at < t_pos {
                 if e.reported {
-                    out.push(PairOut::Delete(key.0, key.1));
-                    self.reported -= 1;
+                    out.push(PairOut::Delete(a, b));
+                    reported -= 1;
                 }
-                self.pairs.remove(&key);
-            } else {
-                keep.push(key);
+                return false;
             }
-        }
-        self.dropped = keep;
-        for key in std::mem::take(&mut self.added) {
-            if let Some(e) = self.pairs.get_mut(&key)
-                && !e.reported
-            {
-                e.reported = true;
-                self.reported += 1;
-                out.push(PairOut::Add(key.0, key.1));
+            let want = meet(a, b);
+            if want != e.reported {
+                e.reported = want;
+                if want {
+                    reported += 1;
+                    out.push(PairOut::Add(a, b));
+                } else {
+                    reported -= 1;
+                    out.push(PairOut::Delete(a, b));
+                }
             }
-        }
+            true
+        });
+        self.reported = reported;
+        let pairs = &self.pairs;
+        self.dropped
+            .retain(|key| pairs.get(key).is_some_and(|e| e.count <= 0));
+        // The map's order is not the pairs' order: events go out sorted.
+        out.sort_unstable();
     }
 
     /// Pairs rapier has.
@@ -129,14 +133,19 @@ impl PairBook {
     }
 
     /// Checks the book against itself: counts are never negative, the reported count is
-    /// right and (`settled`, between calls) every candidate is reported.
-    pub(crate) fn audit(&self, settled: bool) -> Result<(), String> {
+    /// right and (`settled`, between calls) every candidate whose proxies can meet in the
+    /// window (`meet`) is reported.
+    pub(crate) fn audit(
+        &self,
+        settled: bool,
+        meet: impl Fn(u32, u32) -> bool,
+    ) -> Result<(), String> {
         let mut reported = 0;
         for (&(a, b), e) in &self.pairs {
             if e.count < 0 {
                 return Err(format!("pair ({a}, {b}): count {}", e.count));
             }
-            if settled && e.count > 0 && !e.reported {
+            if settled && e.count > 0 && !e.reported && meet(a, b) {
                 return Err(format!(
                     "pair ({a}, {b}) is a candidate rapier does not have"
                 ));
@@ -160,12 +169,108 @@ impl PairBook {
     }
 }
 
+/// Whether proxies `a` and `b`, on their plans, can meet between `t0` and `t1`: for two
+/// balls, whether their centres come within the sum of their radii (conservatively: the
+/// relative acceleration's part is bounded by its largest value over the window, and a
+/// rounding allowance is added); for other shapes, always (their boxes overlap, or the
+/// structure would not hold the pair).
+pub(crate) fn proxies_meet(a: &Body, b: &Body, t0: Real, t1: Real) -> bool {
+    let (Shape::Ball { radius: ra }, Shape::Ball { radius: rb }) = (&a.shape, &b.shape) else {
+        return true;
+    };
+    let (pa, pb) = (a.plan.position_at(t0), b.plan.position_at(t0));
+    let d0 = pa - pb;
+    let d1 = a.plan.velocity_at(t0) - b.plan.velocity_at(t0);
+    let d2 = (a.plan.acceleration - b.plan.acceleration) * 0.5;
+    let h = (t1 - t0).max(0.0);
+    // Closest approach of the linear part over [0, h].
+    let v2 = d1.length_squared();
+    let s = if v2 > 0.0 {
+        (-d0.dot(d1) / v2).clamp(0.0, h)
+    } else {
+        0.0
+    };
+    let gap = (d0 + d1 * s).length() - d2.length() * h * h;
+    let reach = ra + rb;
+    let tol = 1e-9 * (reach + pa.abs().max_element() + pb.abs().max_element());
+    gap <= reach + tol
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use kinetic_core::{FlightPlan, Vec3};
 
     fn change(a: u32, b: u32, delta: i32) -> PairChange {
         PairChange { a, b, delta }
+    }
+
+    fn always(_: u32, _: u32) -> bool {
+        true
+    }
+
+    #[test]
+    fn a_candidate_goes_to_rapier_only_while_its_proxies_can_meet() {
+        let mut book = PairBook::default();
+        let mut out = Vec::new();
+        book.apply(&mut vec![change(0, 1, 1)], 0.0);
+        book.emit(0.0, |_, _| false, &mut out);
+        assert!(out.is_empty());
+        assert_eq!(book.candidates(), 1);
+        book.audit(true, |_, _| false).unwrap();
+        assert!(book.audit(true, always).is_err(), "a meeting candidate must be reported");
+        book.emit(1.0, always, &mut out);
+        assert_eq!(out, vec![PairOut::Add(0, 1)]);
+        // Still a candidate, but its balls stay apart over the next window: deleted.
+        out.clear();
+        book.emit(2.0, |_, _| false, &mut out);
+        assert_eq!(out, vec![PairOut::Delete(0, 1)]);
+        assert_eq!(book.reported(), 0);
+        assert_eq!(book.candidates(), 1);
+    }
+
+    fn ball(radius: Real, plan: FlightPlan) -> Body {
+        Body {
+            shape: Shape::Ball { radius },
+            plan,
+        }
+    }
+
+    #[test]
+    fn balls_meet_when_their_paths_come_within_the_sum_of_the_radii() {
+        let at = |x: Real| FlightPlan::at_rest(Vec3::new(x, 0.0, 0.0));
+        let moving = |x: Real, v: Real| {
+            FlightPlan::linear(Vec3::new(x, 0.0, 0.0), Vec3::new(v, 0.0, 0.0))
+        };
+        // At rest 2 apart: radii 1 + 0.99 miss, 1 + 1 touch.
+        assert!(!proxies_meet(&ball(1.0, at(0.0)), &ball(0.99, at(2.0)), 0.0, 1.0));
+        assert!(proxies_meet(&ball(1.0, at(0.0)), &ball(1.0, at(2.0)), 0.0, 1.0));
+        // Closing at 1 per unit time from 3 apart: they touch at t = 1.
+        let (a, b) = (ball(1.0, at(0.0)), ball(1.0, moving(3.0, -1.0)));
+        assert!(!proxies_meet(&a, &b, 0.0, 0.99));
+        assert!(proxies_meet(&a, &b, 0.0, 1.01));
+        // Passing through each other within the window, apart at both ends.
+        let b = ball(0.1, moving(-5.0, 10.0));
+        assert!(proxies_meet(&ball(0.1, at(0.0)), &b, 0.0, 1.0));
+        assert!(!proxies_meet(&ball(0.1, at(0.0)), &b, 0.0, 0.4));
+        // Falling onto a resting ball: the relative acceleration is bounded over the window.
+        let fall = |t: Real| {
+            FlightPlan::accelerated(Vec3::new(0.0, 3.0, 0.0), Vec3::ZERO, Vec3::new(0.0, -2.0, 0.0))
+                .starting_at(t)
+        };
+        let rest = ball(1.0, at(0.0));
+        assert!(proxies_meet(&rest, &ball(1.0, fall(0.0)), 0.0, 1.0));
+        assert!(!proxies_meet(&rest, &ball(1.0, fall(0.0)), 0.0, 0.5));
+        // Other shapes: always (their boxes overlap).
+        let cube = Body {
+            shape: Shape::Ball { radius: 1.0 },
+            plan: at(100.0),
+        };
+        let mut other = cube.clone();
+        other.shape = kinetic_flight::ConvexShape::cuboid(Vec3::ONE)
+            .unwrap()
+            .into_shape();
+        assert!(proxies_meet(&cube, &other, 0.0, 1.0));
     }
 
     #[test]
@@ -175,18 +280,18 @@ mod tests {
         // Window [0, 1]: the pair appears at 0.4 and leaves at 0.6.
         book.apply(&mut vec![change(3, 1, 1)], 0.4);
         book.apply(&mut vec![change(1, 3, -1)], 0.6);
-        book.emit(0.0, &mut out);
+        book.emit(0.0, always, &mut out);
         assert_eq!(out, vec![PairOut::Add(1, 3)]);
         assert!(book.has(1, 3));
         // Next call, positions at 0.5: it left at 0.6, within that call's window: kept.
         out.clear();
-        book.emit(0.5, &mut out);
+        book.emit(0.5, always, &mut out);
         assert!(out.is_empty());
         // Positions at 1.0: it has been out since 0.6: deleted.
-        book.emit(1.0, &mut out);
+        book.emit(1.0, always, &mut out);
         assert_eq!(out, vec![PairOut::Delete(1, 3)]);
         assert_eq!(book.reported(), 0);
-        book.audit(true).unwrap();
+        book.audit(true, always).unwrap();
     }
 
     #[test]
@@ -194,12 +299,12 @@ mod tests {
         let mut book = PairBook::default();
         let mut out = Vec::new();
         book.apply(&mut vec![change(0, 2, 1), change(0, 2, 1)], 0.0);
-        book.emit(0.0, &mut out);
+        book.emit(0.0, always, &mut out);
         book.apply(&mut vec![change(0, 2, -1)], 0.5);
-        book.emit(1.0, &mut out);
+        book.emit(1.0, always, &mut out);
         assert_eq!(out, vec![PairOut::Add(0, 2)]);
         book.apply(&mut vec![change(0, 2, -1)], 1.5);
-        book.emit(2.0, &mut out);
+        book.emit(2.0, always, &mut out);
         assert_eq!(out, vec![PairOut::Add(0, 2), PairOut::Delete(0, 2)]);
     }
 
@@ -208,13 +313,13 @@ mod tests {
         let mut book = PairBook::default();
         let mut out = Vec::new();
         book.apply(&mut vec![change(0, 1, 1), change(1, 2, 1)], 0.0);
-        book.emit(0.0, &mut out);
+        book.emit(0.0, always, &mut out);
         book.apply(&mut vec![change(1, 2, -1)], 0.5);
         book.forget(1, &mut vec![change(0, 1, -1)]);
         out.clear();
-        book.emit(2.0, &mut out);
+        book.emit(2.0, always, &mut out);
         assert!(out.is_empty(), "{out:?}");
         assert_eq!(book.reported(), 0);
-        book.audit(true).unwrap();
+        book.audit(true, always).unwrap();
     }
 }
