@@ -4,8 +4,8 @@
 //! three global orders: a body falling past a pile a kilometre away costs nothing.
 //!
 //! - Levels: level `L` has cubic cells of side `base r^L`. An object lives at the lowest level
-//!   whose cells are at least as wide as its box, so its box spans at most two cells per axis
-//!   there. It is also a visitor at every occupied level above its own. The ratio `r` is a
+//!   whose nominal cells are at least as wide as its box. It is also a visitor at every
+//!   occupied level above its own. The ratio `r` is a
 //!   power of two set by the first objects: 2 when their sizes are alike, wider when the
 //!   middle 98% of them spread over more than three octaves (8 for sizes over three orders
 //!   of magnitude), so that an object visits a few levels instead of one per octave.
@@ -22,8 +22,11 @@
 //!   certificate; the pair is a candidate while all three do. Boxes meet exactly when they
 //!   meet and part a hysteresis (`1e-6` of the smaller box) after they part.
 //!
-//! - Sparse levels: a level first filled by at least 32 objects at once gets cells widened by
-//!   a power of two (at most 64x) to about one of its objects per cell: fewer crossings.
+//! - Cell sizes: a level's cells are first narrowed (by powers of two) to the widest of the
+//!   objects that first fill it, so that a level whose objects are smaller than its nominal
+//!   size does not draw every small object around into its cells. A level first filled by at
+//!   least 32 objects at once then gets cells widened by a power of two (at most 64x) to
+//!   about one of its objects per cell: fewer crossings.
 //!
 //! Cost: a footprint (12 certificates) per object and occupied level at or above its own,
 //! three certificates per grid pair; an event costs O(1) hash-map work and a queue update.
@@ -180,14 +183,17 @@ impl Grid {
         own * self.widen.get(&level).copied().unwrap_or(1.0)
     }
 
-    /// Widens the cells of the levels that `ids` are the first to occupy, to about one object
-    /// of the level per cell (a power of two, at most [`MAX_WIDEN`]) where they are
-    /// sparse: fewer crossings, and still O(1) objects per cell.
+    /// Sizes the cells of the levels that `ids` are the first to occupy: first narrowed (by
+    /// powers of two, down to the level below's) to the widest of those objects, so that a
+    /// level holding only smaller objects than its nominal size does not draw every small
+    /// object around into its cells; then, where the level's objects are sparse, widened to
+    /// about one of them per cell (at most [`MAX_WIDEN`] times): fewer crossings, and still
+    /// O(1) objects per cell.
     fn widen_for(&mut self, ids: &[u32], bodies: &Bodies, now: Real) {
-        let mut spread: FxHashMap<i32, (usize, Vec3, Vec3)> = FxHashMap::default();
+        let mut spread: FxHashMap<i32, (usize, Vec3, Vec3, Real)> = FxHashMap::default();
         for &id in ids {
             let m = self.make_member(bodies, id);
-            if self.occupied.contains(&m.level) {
+            if self.occupied.contains(&m.level) || self.widen.contains_key(&m.level) {
                 continue;
             }
             let c = bodies[id as usize]
@@ -195,23 +201,27 @@ impl Grid {
                 .expect("a live object")
                 .plan
                 .position_at(now);
-            let e = spread.entry(m.level).or_insert((0, c, c));
-            *e = (e.0 + 1, e.1.min(c), e.2.max(c));
+            let e = spread.entry(m.level).or_insert((0, c, c, 0.0));
+            *e = (e.0 + 1, e.1.min(c), e.2.max(c), e.3.max(m.width));
         }
-        for (level, (n, lo, hi)) in spread {
-            if n < WIDEN_MIN_OBJECTS {
-                continue;
-            }
-            let own = self.cell_size(level);
-            let volume = (hi - lo).max(Vec3::splat(own)).element_product();
-            let side = (volume / n as Real).cbrt();
+        let min_f = 1.0 / self.ratio();
+        for (level, (n, lo, hi, widest)) in spread {
+            let nominal = self.cell_size(level);
             let mut f = 1.0;
-            while f < MAX_WIDEN && 2.0 * f * own <= side {
-                f *= 2.0;
+            while f > min_f && nominal * f / 2.0 >= widest {
+                f /= 2.0;
             }
-            if f > 1.0 {
-                self.widen.insert(level, f);
+            if n >= WIDEN_MIN_OBJECTS {
+                let own = nominal * f;
+                let volume = (hi - lo).max(Vec3::splat(own)).element_product();
+                let side = (volume / n as Real).cbrt();
+                let mut g = 1.0;
+                while g < MAX_WIDEN && 2.0 * g * own <= side {
+                    g *= 2.0;
+                }
+                f *= g;
             }
+            self.widen.insert(level, f);
         }
     }
 

@@ -173,6 +173,8 @@ pub struct KineticBroadPhase {
     lag_reach: Option<Real>,
     book: PairBook,
     clock: Clock,
+    /// The window of the last call that handed pairs over.
+    emitted: (Real, Real),
     changes: Vec<PairChange>,
     out: Vec<PairOut>,
     stats: BroadPhaseStats,
@@ -212,6 +214,7 @@ impl KineticBroadPhase {
             lag_reach: None,
             book: PairBook::default(),
             clock: Clock::default(),
+            emitted: (Real::NAN, Real::NAN),
             changes: Vec::new(),
             out: Vec::new(),
             stats: BroadPhaseStats::default(),
@@ -723,6 +726,7 @@ impl BroadPhase for KineticBroadPhase {
         }
 
         // Bodies that moved: what they showed of their acceleration, then their plans.
+        let mut seen_moving = 0;
         for &b in &moved {
             let Some(rb) = bodies.get(b) else { continue };
             let Some(m) = self.motions.get_mut(b) else {
@@ -758,10 +762,18 @@ impl BroadPhase for KineticBroadPhase {
             if self.refit(b, bodies, params, false) {
                 self.replan(b);
             }
+            if self
+                .motions
+                .get(b)
+                .is_some_and(|m| m.listed && m.seen == update)
+            {
+                seen_moving += 1;
+            }
         }
         self.install(&new, colliders, bodies, params, update);
 
-        if !starts_step {
+        // Unless every moving body moved in this update, some went to sleep or stopped.
+        if !starts_step && seen_moving < self.moving.len() {
             // Bodies that did not move in this update went to sleep or stopped: at rest.
             let mut k = 0;
             while k < self.moving.len() {
@@ -808,8 +820,16 @@ impl BroadPhase for KineticBroadPhase {
         // Look ahead over the coming step.
         self.advance(self.clock.pos + self.clock.dt);
 
-        self.book
-            .emit(self.clock.pos, meet(&self.bodies, self.clock), &mut self.out);
+        // The start of a step with no change since the last call: nothing new to hand over.
+        let window = (self.clock.pos, self.clock.kds);
+        if !starts_step || self.book.take_changed() || window != self.emitted {
+            self.book.emit(
+                self.clock.pos,
+                meet(&self.bodies, self.clock),
+                &mut self.out,
+            );
+            self.emitted = window;
+        }
         for o in self.out.drain(..) {
             let (a, b, add) = match o {
                 PairOut::Add(a, b) => (a, b, true),

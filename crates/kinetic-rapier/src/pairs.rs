@@ -37,11 +37,14 @@ pub(crate) struct PairBook {
     /// Pairs whose count fell to 0 and that rapier may still have.
     dropped: Vec<(u32, u32)>,
     reported: usize,
+    /// Whether the structure changed a pair since [`PairBook::take_changed`].
+    changed: bool,
 }
 
 impl PairBook {
     /// Counts the structure's changes, made at time `t`.
     pub(crate) fn apply(&mut self, changes: &mut Vec<PairChange>, t: Real) {
+        self.changed |= !changes.is_empty();
         for c in changes.drain(..) {
             let key = (c.a.min(c.b), c.a.max(c.b));
             let e = self.pairs.entry(key).or_insert(PairState {
@@ -61,6 +64,7 @@ impl PairBook {
     /// Forgets every pair of collider `id` without events (it was removed: rapier drops its
     /// pairs itself). `changes` holds the structure's drops for its removal.
     pub(crate) fn forget(&mut self, id: u32, changes: &mut Vec<PairChange>) {
+        self.changed = true;
         for c in changes.drain(..) {
             let key = (c.a.min(c.b), c.a.max(c.b));
             if let Some(e) = self.pairs.remove(&key) {
@@ -120,6 +124,11 @@ impl PairBook {
             .retain(|key| pairs.get(key).is_some_and(|e| e.count <= 0));
         // The map's order is not the pairs' order: events go out sorted.
         out.sort_unstable();
+    }
+
+    /// Whether the structure changed a pair since the last call; clears the flag.
+    pub(crate) fn take_changed(&mut self) -> bool {
+        std::mem::take(&mut self.changed)
     }
 
     /// Pairs rapier has.
@@ -218,7 +227,10 @@ mod tests {
         assert!(out.is_empty());
         assert_eq!(book.candidates(), 1);
         book.audit(true, |_, _| false).unwrap();
-        assert!(book.audit(true, always).is_err(), "a meeting candidate must be reported");
+        assert!(
+            book.audit(true, always).is_err(),
+            "a meeting candidate must be reported"
+        );
         book.emit(1.0, always, &mut out);
         assert_eq!(out, vec![PairOut::Add(0, 1)]);
         // Still a candidate, but its balls stay apart over the next window: deleted.
@@ -239,12 +251,21 @@ mod tests {
     #[test]
     fn balls_meet_when_their_paths_come_within_the_sum_of_the_radii() {
         let at = |x: Real| FlightPlan::at_rest(Vec3::new(x, 0.0, 0.0));
-        let moving = |x: Real, v: Real| {
-            FlightPlan::linear(Vec3::new(x, 0.0, 0.0), Vec3::new(v, 0.0, 0.0))
-        };
+        let moving =
+            |x: Real, v: Real| FlightPlan::linear(Vec3::new(x, 0.0, 0.0), Vec3::new(v, 0.0, 0.0));
         // At rest 2 apart: radii 1 + 0.99 miss, 1 + 1 touch.
-        assert!(!proxies_meet(&ball(1.0, at(0.0)), &ball(0.99, at(2.0)), 0.0, 1.0));
-        assert!(proxies_meet(&ball(1.0, at(0.0)), &ball(1.0, at(2.0)), 0.0, 1.0));
+        assert!(!proxies_meet(
+            &ball(1.0, at(0.0)),
+            &ball(0.99, at(2.0)),
+            0.0,
+            1.0
+        ));
+        assert!(proxies_meet(
+            &ball(1.0, at(0.0)),
+            &ball(1.0, at(2.0)),
+            0.0,
+            1.0
+        ));
         // Closing at 1 per unit time from 3 apart: they touch at t = 1.
         let (a, b) = (ball(1.0, at(0.0)), ball(1.0, moving(3.0, -1.0)));
         assert!(!proxies_meet(&a, &b, 0.0, 0.99));
@@ -255,8 +276,12 @@ mod tests {
         assert!(!proxies_meet(&ball(0.1, at(0.0)), &b, 0.0, 0.4));
         // Falling onto a resting ball: the relative acceleration is bounded over the window.
         let fall = |t: Real| {
-            FlightPlan::accelerated(Vec3::new(0.0, 3.0, 0.0), Vec3::ZERO, Vec3::new(0.0, -2.0, 0.0))
-                .starting_at(t)
+            FlightPlan::accelerated(
+                Vec3::new(0.0, 3.0, 0.0),
+                Vec3::ZERO,
+                Vec3::new(0.0, -2.0, 0.0),
+            )
+            .starting_at(t)
         };
         let rest = ball(1.0, at(0.0));
         assert!(proxies_meet(&rest, &ball(1.0, fall(0.0)), 0.0, 1.0));
