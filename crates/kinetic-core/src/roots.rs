@@ -175,8 +175,10 @@ fn next_probe(c: f64, crit: &[(f64, bool)], bound: f64) -> f64 {
     c + (next - c) * 0.5
 }
 
-/// Roots in `tau > 0` of `c0 + c1 tau + c2 tau^2` with `c2 != 0`, by the stable formula.
-pub(crate) fn quadratic_roots(c0: f64, c1: f64, c2: f64, out: &mut [(f64, bool); 4]) -> usize {
+/// Roots in `tau > 0` of `c0 + c1 tau + c2 tau^2` with `c2 != 0`, by the stable formula,
+/// written into `out` ascending, each flagged `true` when it is a double root (a touch);
+/// returns how many.
+pub fn quadratic_roots(c0: f64, c1: f64, c2: f64, out: &mut [(f64, bool); 4]) -> usize {
     let disc = c1 * c1 - 4.0 * c2 * c0;
     let mut n = 0;
     if disc < 0.0 || !disc.is_finite() {

@@ -34,9 +34,10 @@
 //! another; the grid's are the cell crossings and the box events of neighbours.
 
 use crate::sweep::{Ends, box_ends};
-use kinetic_core::roots::roots_after_zero;
+
+use kinetic_core::roots::quadratic_roots;
 use kinetic_core::{
-    Bodies, CandidateStructure, EventQueue, PairChange, Poly, Real, ScalarKey, Vec3,
+    Bodies, CandidateStructure, EventQueue, PairChange, Real, ScalarKey, Vec3, sign,
 };
 use rustc_hash::{FxHashMap, FxHashSet};
 use std::collections::BTreeSet;
@@ -66,24 +67,37 @@ type CellKey = (i32, i64, i64, i64);
 type Local = [Real; 3];
 
 /// The first time after `now` at which `c - g` changes sign to `to` (+1 or -1), or `now`
-/// itself when it is already on that side just after `now`; +infinity for never.
+/// itself when it is already on that side just after `now`; +infinity for never. The roots
+/// are those of `kinetic_core::roots` (the same closed forms, without building a polynomial).
 fn crossing(c: Local, g: Real, to: i8, now: Real) -> Real {
-    let p = Poly::new(&[c[0] - g, c[1], c[2]]);
-    let s = p.sign_just_after_zero();
+    let p = [c[0] - g, c[1], c[2]];
+    let s = sign_after(p);
     if s == to {
         return now;
     }
     if s == 0 {
         return Real::INFINITY;
     }
-    roots_after_zero(&p)
+    // Just after `now` the sign is -to: the first root where it changes is the answer.
+    if p[2] == 0.0 {
+        let tau = -p[0] / p[1];
+        return if tau > 0.0 && tau.is_finite() {
+            now + tau
+        } else {
+            Real::INFINITY
+        };
+    }
+    let mut roots = [(0.0, false); 4];
+    let n = quadratic_roots(p[0], p[1], p[2], &mut roots);
+    roots[..n]
         .iter()
-        .find(|r| r.is_sign_change() && r.after == to)
-        .map_or(Real::INFINITY, |r| now + r.tau)
+        .find(|(_, touch)| !touch)
+        .map_or(Real::INFINITY, |(tau, _)| now + tau)
 }
 
+/// The sign of `c` just after local time 0.
 fn sign_after(c: Local) -> i8 {
-    Poly::new(&c).sign_just_after_zero()
+    c.iter().find(|&&x| x != 0.0).map_or(0, |&x| sign(x))
 }
 
 fn minus(a: Local, b: Local) -> Local {

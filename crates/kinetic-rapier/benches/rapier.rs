@@ -2,8 +2,10 @@
 //! one run: whole step, broad-phase time (rapier's own counters) and pairs handed to the
 //! narrow phase.
 //!
-//! `cargo bench -p kinetic-rapier --bench rapier -- [N...] [--steps S] [--scenes rain,debris]`
-//! (default N = 1000 10000 50000, S = 120, both scenes). Prints a markdown table.
+//! `cargo bench -p kinetic-rapier --bench rapier -- [N...] [--steps S] [--scenes rain,debris]
+//! [--repeat K]` (default N = 1000 10000 50000, S = 120, both scenes, K = 1). Each side runs K
+//! times, the two interleaved, and shows its run of median broad-phase time (timings on a
+//! shared machine drift by tens of percent between runs). Prints a markdown table.
 
 use kinetic_flight::Choice;
 use kinetic_rapier::KineticBroadPhase;
@@ -68,6 +70,23 @@ fn run(scene: RapierScene, bp: &mut dyn BroadPhase, steps: usize) -> Row {
     }
 }
 
+/// The run of median broad-phase time.
+fn median(mut runs: Vec<Row>) -> Row {
+    runs.sort_by(|a, b| a.bp_ms.total_cmp(&b.bp_ms));
+    let mid = runs.len() / 2;
+    runs.swap_remove(mid)
+}
+
+/// The kinetic broad phase, with the structure `KINETIC_STRUCTURE` names if any.
+fn kinetic() -> KineticBroadPhase {
+    match std::env::var("KINETIC_STRUCTURE").as_deref() {
+        Ok("grid") => KineticBroadPhase::default().with_structure(Choice::Grid),
+        Ok("sweep") => KineticBroadPhase::default().with_structure(Choice::Sweep),
+        Ok("guards") => KineticBroadPhase::default().with_structure(Choice::Guards),
+        _ => KineticBroadPhase::default(),
+    }
+}
+
 fn main() {
     let args: Vec<String> = std::env::args()
         .skip(1)
@@ -76,10 +95,17 @@ fn main() {
     let mut sizes = Vec::new();
     let mut steps = 120;
     let mut only: Option<Vec<String>> = None;
+    let mut repeat = 1;
     let mut it = args.iter();
     while let Some(a) = it.next() {
         if a == "--steps" {
             steps = it.next().and_then(|s| s.parse().ok()).expect("--steps S");
+        } else if a == "--repeat" {
+            repeat = it
+                .next()
+                .and_then(|s| s.parse().ok())
+                .filter(|&k: &usize| k > 0)
+                .expect("--repeat K (K > 0)");
         } else if a == "--scenes" {
             let list = it.next().expect("--scenes rain,debris");
             only = Some(list.split(',').map(str::to_string).collect());
@@ -91,7 +117,7 @@ fn main() {
         sizes = vec![1000, 10000, 50000];
     }
     println!(
-        "{steps} steps at 60 Hz; times are means per step; pairs: the narrow phase's pairs, touching: those with an active contact\n"
+        "{steps} steps at 60 Hz; times are means per step (each side's run of median broad-phase time of {repeat}); pairs: the narrow phase's pairs, touching: those with an active contact\n"
     );
     println!(
         "| scene | n | broad phase | step ms | broad phase ms | narrow phase ms | pairs | touching | kinetic: structure, events/step, re-plans/step |"
@@ -107,14 +133,14 @@ fn main() {
             if only.as_ref().is_some_and(|o| !o.iter().any(|s| s == name)) {
                 continue;
             }
-            let d = run(make(n), &mut DefaultBroadPhase::new(), steps);
-            let mut kbp = match std::env::var("KINETIC_STRUCTURE").as_deref() {
-                Ok("grid") => KineticBroadPhase::default().with_structure(Choice::Grid),
-                Ok("sweep") => KineticBroadPhase::default().with_structure(Choice::Sweep),
-                Ok("guards") => KineticBroadPhase::default().with_structure(Choice::Guards),
-                _ => KineticBroadPhase::default(),
-            };
-            let k = run(make(n), &mut kbp, steps);
+            let (mut ds, mut ks) = (Vec::new(), Vec::new());
+            let mut kbp = kinetic();
+            for _ in 0..repeat {
+                ds.push(run(make(n), &mut DefaultBroadPhase::new(), steps));
+                kbp = kinetic();
+                ks.push(run(make(n), &mut kbp, steps));
+            }
+            let (d, k) = (median(ds), median(ks));
             let s = kbp.stats();
             for (label, r, extra) in [
                 ("default (BVH)", &d, String::new()),
