@@ -70,6 +70,14 @@ use rapier3d::prelude::*;
 
 /// Steps over which a body must stay within half its slack to be planned at rest.
 const REST_STEPS: Real = 30.0;
+/// A body re-planned five times running, each within this many position updates of the
+/// last (not a body that starts to fall, which takes up to three re-plans to learn its
+/// acceleration), has its slack doubled...
+const RESTLESS_UPDATES: u64 = 2;
+/// ... up to this many times (a slack 8 times the base)...
+const MAX_GROWTH: u32 = 3;
+/// ... and halved at a re-plan that comes at least this many updates after the last.
+const CALM_UPDATES: u64 = 60;
 
 /// A candidate structure the broad phase can hold across threads.
 type Structure = Box<dyn CandidateStructure + Send + Sync>;
@@ -95,6 +103,10 @@ pub struct BroadPhaseStats {
     pub added: u64,
     /// `DeletePair` events sent.
     pub deleted: u64,
+    /// Times a body that kept re-planning had its slack doubled.
+    pub slack_growths: u64,
+    /// Times a body with grown slack that then kept its plan had it halved.
+    pub slack_shrinks: u64,
 }
 
 /// Figures over the last physics step.
@@ -126,8 +138,17 @@ struct Proxy {
 #[derive(Clone, Debug)]
 struct Motion {
     plan: FlightPlan,
-    /// The least slack of its colliders.
+    /// The least base slack of its colliders.
     slack: Real,
+    /// The slack is the base times `2^growth`: doubled for a body that keeps re-planning
+    /// (one jostled in a pile), halved back once it keeps its plans.
+    growth: u32,
+    /// The position update of its last re-plan, and how many re-plans running came within
+    /// [`RESTLESS_UPDATES`] of the one before.
+    replanned: u64,
+    restless: u32,
+    /// Whether its last re-plan changed its growth (its proxies' size).
+    resized: bool,
     colliders: Vec<u32>,
     /// Its velocity at the last position update that moved it, and which update that was.
     last_v: Vec3,
@@ -181,6 +202,18 @@ pub struct KineticBroadPhase {
     step: StepStats,
     audit: bool,
     audit_error: Option<String>,
+}
+
+impl Motion {
+    /// How much its base slack is grown: `2^growth`.
+    fn scale(&self) -> Real {
+        (1u32 << self.growth) as Real
+    }
+
+    /// Its slack now.
+    fn slack_now(&self) -> Real {
+        self.slack * self.scale()
+    }
 }
 
 impl Default for KineticBroadPhase {
@@ -297,10 +330,10 @@ impl KineticBroadPhase {
         for (h, m) in self.motions.iter() {
             let Some(rb) = bodies.get(h) else { continue };
             let off = (centre_of_mass(rb) - m.plan.position_at(self.clock.pos)).length();
-            if off > m.slack * (1.0 + 1e-6) {
+            if off > m.slack_now() * (1.0 + 1e-6) {
                 return Err(format!(
                     "body {h:?} is {off} from its plan, slack {}",
-                    m.slack
+                    m.slack_now()
                 ));
             }
         }
@@ -318,7 +351,20 @@ impl KineticBroadPhase {
     /// The structure's shape for a hold.
     fn shape(&self, hold: &Hold, choice: Choice) -> Shape {
         match *hold {
-            Hold::Moving { radius, .. } => Shape::Ball { radius },
+            Hold::Moving {
+                body,
+                radius,
+                slack,
+            } => {
+                // The hold's radius has its base slack; a grown slack adds the rest.
+                let extra = self
+                    .motions
+                    .get(body)
+                    .map_or(0.0, |m| slack * (m.scale() - 1.0));
+                Shape::Ball {
+                    radius: radius + extra,
+                }
+            }
             Hold::Fixed { min, max } => {
                 let half = (max - min) / 2.0;
                 match (choice, ConvexShape::cuboid(half)) {
@@ -421,6 +467,10 @@ impl KineticBroadPhase {
         let m = self.motions.get_or_insert_with(h, || Motion {
             plan: FlightPlan::at_rest(centre_of_mass(rb)).starting_at(t),
             slack,
+            growth: 0,
+            replanned: 0,
+            restless: 0,
+            resized: false,
             colliders: Vec::new(),
             last_v: dvec(rb.linvel()),
             seen: u64::MAX,
@@ -562,7 +612,8 @@ impl KineticBroadPhase {
         let substeps = params.num_solver_iterations.get() as Real;
         // Where rapier will put it by the end of the step if nothing touches it.
         let ballistic = fit(x, dvec(rb.linvel()), m.steady_a, t, dt, substeps);
-        let slack2 = m.slack * m.slack;
+        let slack = m.slack_now();
+        let slack2 = slack * slack;
         let off_now = (x - m.plan.position_at(t)).length_squared();
         let off_end = (ballistic.position_at(t + dt) - m.plan.position_at(t + dt)).length_squared();
         if !force && off_now <= slack2 && off_end <= slack2 {
@@ -574,7 +625,33 @@ impl KineticBroadPhase {
         let horizon = REST_STEPS * dt;
         let drift = ballistic.velocity.length() * horizon
             + ballistic.acceleration.length() * horizon * horizon / 2.0;
-        let plan = if rb.is_sleeping() || drift <= m.slack / 2.0 {
+        // A body re-planned again soon after the last is given more slack; one that kept its
+        // plan a long while, less.
+        let update = self.clock.updates;
+        let since = update.saturating_sub(m.replanned);
+        let mut growth = m.growth;
+        if !force {
+            m.restless = if since <= RESTLESS_UPDATES {
+                m.restless + 1
+            } else {
+                0
+            };
+            if m.restless >= 4 {
+                growth = (growth + 1).min(MAX_GROWTH);
+                m.restless = 0;
+            } else if since >= CALM_UPDATES {
+                growth = growth.saturating_sub(1);
+            }
+        }
+        m.resized = growth != m.growth;
+        if growth > m.growth {
+            self.stats.slack_growths += 1;
+        } else if growth < m.growth {
+            self.stats.slack_shrinks += 1;
+        }
+        m.growth = growth;
+        m.replanned = update;
+        let plan = if rb.is_sleeping() || drift <= m.slack_now() / 2.0 {
             FlightPlan::at_rest(x).starting_at(t)
         } else {
             ballistic
@@ -594,12 +671,12 @@ impl KineticBroadPhase {
         self.step.replans += 1;
         let level = self.clock.kds == self.clock.pos;
         let grow = if level { 0.0 } else { self.lag_growth() };
-        let plan = self.motions[h].plan;
+        let (plan, resized) = (self.motions[h].plan, self.motions[h].resized);
         for i in self.motions[h].colliders.clone() {
             let Some(proxy) = self.proxies[i as usize] else {
                 continue;
             };
-            if level && proxy.grown_until.is_none() {
+            if level && proxy.grown_until.is_none() && !resized {
                 let body = self.bodies[i as usize].as_mut().expect("held");
                 body.plan = plan;
                 let s = self.structure.as_mut().expect("a structure");
@@ -611,6 +688,9 @@ impl KineticBroadPhase {
                 self.put_in(i, proxy.hold, g);
             }
             self.book.apply(&mut self.changes, self.clock.kds);
+        }
+        if let Some(m) = self.motions.get_mut(h) {
+            m.resized = false;
         }
     }
 

@@ -156,6 +156,50 @@ fn a_pile_settles_as_with_the_default_broad_phase() {
     assert!(default.bp.faults.is_empty(), "{:?}", default.bp.faults);
 }
 
+#[test]
+fn a_body_that_keeps_changing_course_gets_more_slack_and_gives_it_back_once_calm() {
+    // A kinematic ball whose velocity the user flips every step for 40 steps, then changes
+    // only every 70 steps, through a row of resting balls.
+    let (mut bodies, mut colliders) = (RigidBodySet::new(), ColliderSet::new());
+    ground(&mut colliders, 20.0);
+    for k in 0..12 {
+        let h = bodies.insert(RigidBodyBuilder::dynamic().translation(vector![
+            k as f32 * 0.5 - 3.0,
+            0.25,
+            0.0
+        ]));
+        colliders.insert_with_parent(ColliderBuilder::ball(0.25).build(), h, &mut bodies);
+    }
+    let shaker = bodies
+        .insert(RigidBodyBuilder::kinematic_velocity_based().translation(vector![-3.0, 0.8, 0.0]));
+    colliders.insert_with_parent(ColliderBuilder::ball(0.3).build(), shaker, &mut bodies);
+    let mut sim = Sim::new(bodies, colliders, 9.81, kinetic());
+    let mut growths_when_shaken = 0;
+    for step in 0..400 {
+        let v = if step < 40 {
+            vector![1.0, if step % 2 == 0 { 1.5 } else { -1.5 }, 0.0]
+        } else {
+            vector![if (step / 70) % 2 == 0 { 0.5 } else { -0.5 }, 0.0, 0.0]
+        };
+        sim.bodies[shaker].set_linvel(v, true);
+        sim.step();
+        sim.check(step);
+        if step == 39 {
+            growths_when_shaken = sim.bp.inner.stats().slack_growths;
+        }
+    }
+    let s = sim.bp.inner.stats();
+    println!("{s:?}");
+    // Re-planned every step while shaken: the slack doubled up to three times (8x).
+    assert!(
+        (1..=3).contains(&growths_when_shaken),
+        "{growths_when_shaken}"
+    );
+    // Calm afterwards: each re-plan 70 steps after the last halves it back.
+    assert!(s.slack_shrinks >= growths_when_shaken, "{s:?}");
+    assert_eq!(s.slack_growths, growths_when_shaken, "{s:?}");
+}
+
 /// A stack of `n` unit boxes on the ground.
 fn stack(n: usize) -> (RigidBodySet, ColliderSet, RigidBodyHandle) {
     let mut bodies = RigidBodySet::new();
