@@ -34,22 +34,25 @@
 //! moving body has a flight plan fitted to rapier's integrator (position, velocity, and the
 //! acceleration it has shown two steps running: gravity and any other constant force). A body
 //! that stays within the slack of its plan keeps it; only bodies that left it are re-planned.
-//! Fixed and sleeping bodies have rest plans and cost nothing per step.
+//! A body that keeps re-planning (jostled in a pile) has its slack doubled, up to 8 times,
+//! and halved back once it keeps its plans. Fixed and sleeping bodies have rest plans and
+//! cost nothing per step.
 //!
 //! rapier 0.27 calls the broad phase once at the start of each step (the user's changes,
 //! positions unchanged) and once after each position update. After a position update the
 //! structure is advanced one step ahead, through its own events in time order, so a pair is
 //! handed to rapier (`AddPair`) in the step during which the two proxies meet at any moment: a
-//! fast body cannot skip a pair between steps. A pair is deleted only once it has been out of
-//! the structure for a whole window, so never while the colliders touch or are within the
-//! prediction distance. The lower collider index comes first; a removed collider's pairs go
+//! fast body cannot skip a pair between steps. Of the structure's candidates, rapier gets those
+//! whose two balls can meet within the window. A pair is deleted only once it has been out of
+//! the structure for a whole window, or its balls stay apart over a whole window, so never
+//! while the colliders touch or are within the prediction distance. The lower collider index comes first; a removed collider's pairs go
 //! without events (the narrow phase drops them itself). Same-body pairs and collision groups
 //! are filtered by rapier's narrow phase, as with the default broad phase.
 //!
 //! The structure is [`kinetic_flight::Grid`] unless the caller picks another
 //! ([`KineticBroadPhase::with_structure`]). The grid sorts the proxies into levels by size (a
-//! level's cells are as wide as its proxies, wider where they are sparse) and hands rapier
-//! the sweep's pairs, the proxies whose boxes meet (a pair goes 1e-6 of the smaller box after
+//! level's cells are as wide as its proxies, wider where they are sparse) and finds the
+//! sweep's pairs, the proxies whose boxes meet (a pair goes 1e-6 of the smaller box after
 //! they part), while looking only at proxies that share a cell. The sweep (Section 3.1: three global sorted lists) and guards (Section
 //! 3.2) hand over the same or fewer pairs but pay for every swap of the global orders: on the
 //! benchmark's rain and debris field the grid was 1.6x to 55x faster than either (README).
