@@ -5,10 +5,10 @@
 //!
 //! - Levels: level `L` has cubic cells of side `base r^L`. An object lives at the lowest level
 //!   whose nominal cells are at least as wide as its box. It is also a visitor at every
-//!   occupied level above its own. The ratio `r` is a
-//!   power of two set by the first objects: 2 when their sizes are alike, wider when the
-//!   middle 98% of them spread over more than three octaves (8 for sizes over three orders
-//!   of magnitude), so that an object visits a few levels instead of one per octave.
+//!   occupied level above its own. The ratio `r` is a power of two set by the first objects:
+//!   2 when their sizes are alike, wider when the middle 98% of them spread over more than
+//!   three octaves (8 for sizes over three orders of magnitude), so that an object visits a
+//!   few levels instead of one per octave.
 //! - Footprints: at each of its levels an object holds the range of cells its box overlaps.
 //!   Four certificates per axis keep it: each end of the box stays within the cell range. An
 //!   end that leaves the range extends it at once; an end that moved a whole cell inward
@@ -34,7 +34,6 @@
 //! another; the grid's are the cell crossings and the box events of neighbours.
 
 use crate::sweep::{Ends, box_ends};
-
 use kinetic_core::roots::quadratic_roots;
 use kinetic_core::{
     Bodies, CandidateStructure, EventQueue, PairChange, Real, ScalarKey, Vec3, sign,
@@ -190,8 +189,8 @@ impl Grid {
         self.pair_of.len()
     }
 
-    /// The side of level `level`'s cells: the level's own size, or wider where its objects
-    /// were sparse when the level was first filled.
+    /// The side of level `level`'s cells: the level's nominal size, narrowed to the widest of
+    /// the objects that first filled it and widened where they were sparse.
     fn cell_size(&self, level: i32) -> Real {
         let own = self.base.unwrap_or(1.0) * self.ratio().powi(level);
         own * self.widen.get(&level).copied().unwrap_or(1.0)

@@ -45,7 +45,8 @@
 //! fast body cannot skip a pair between steps. Of the structure's candidates, rapier gets those
 //! whose two balls can meet within the window. A pair is deleted only once it has been out of
 //! the structure for a whole window, or its balls stay apart over a whole window, so never
-//! while the colliders touch or are within the prediction distance. The lower collider index comes first; a removed collider's pairs go
+//! while the colliders touch or are within the prediction distance. The lower collider index
+//! comes first; a removed collider's pairs go
 //! without events (the narrow phase drops them itself). Same-body pairs and collision groups
 //! are filtered by rapier's narrow phase, as with the default broad phase.
 //!
@@ -73,10 +74,12 @@ use rapier3d::prelude::*;
 
 /// Steps over which a body must stay within half its slack to be planned at rest.
 const REST_STEPS: Real = 30.0;
-/// A body re-planned five times running, each within this many position updates of the
-/// last (not a body that starts to fall, which takes up to three re-plans to learn its
-/// acceleration), has its slack doubled...
+/// A body whose last [`RESTLESS_RUN`] re-plans each came within this many position updates of
+/// the one before has its slack doubled...
 const RESTLESS_UPDATES: u64 = 2;
+/// ... (four, so five re-plans in all: not a body that starts to fall, which takes up to three
+/// to learn its acceleration)...
+const RESTLESS_RUN: u32 = 4;
 /// ... up to this many times (a slack 8 times the base)...
 const MAX_GROWTH: u32 = 3;
 /// ... and halved at a re-plan that comes at least this many updates after the last.
@@ -639,7 +642,7 @@ impl KineticBroadPhase {
             } else {
                 0
             };
-            if m.restless >= 4 {
+            if m.restless >= RESTLESS_RUN {
                 growth = (growth + 1).min(MAX_GROWTH);
                 m.restless = 0;
             } else if since >= CALM_UPDATES {
