@@ -70,9 +70,9 @@ fn run(scene: RapierScene, bp: &mut dyn BroadPhase, steps: usize) -> Row {
     }
 }
 
-/// The run of median broad-phase time.
-fn median(mut runs: Vec<Row>) -> Row {
-    runs.sort_by(|a, b| a.bp_ms.total_cmp(&b.bp_ms));
+/// The run of median broad-phase time (with what else the run kept).
+fn median<T>(mut runs: Vec<(Row, T)>) -> (Row, T) {
+    runs.sort_by(|a, b| a.0.bp_ms.total_cmp(&b.0.bp_ms));
     let mid = runs.len() / 2;
     runs.swap_remove(mid)
 }
@@ -134,13 +134,12 @@ fn main() {
                 continue;
             }
             let (mut ds, mut ks) = (Vec::new(), Vec::new());
-            let mut kbp = kinetic();
             for _ in 0..repeat {
-                ds.push(run(make(n), &mut DefaultBroadPhase::new(), steps));
-                kbp = kinetic();
-                ks.push(run(make(n), &mut kbp, steps));
+                ds.push((run(make(n), &mut DefaultBroadPhase::new(), steps), ()));
+                let mut kbp = kinetic();
+                ks.push((run(make(n), &mut kbp, steps), kbp));
             }
-            let (d, k) = (median(ds), median(ks));
+            let ((d, ()), (k, kbp)) = (median(ds), median(ks));
             let s = kbp.stats();
             for (label, r, extra) in [
                 ("default (BVH)", &d, String::new()),

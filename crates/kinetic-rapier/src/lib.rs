@@ -153,8 +153,6 @@ struct Motion {
     /// [`RESTLESS_UPDATES`] of the one before.
     replanned: u64,
     restless: u32,
-    /// Whether its last re-plan changed its growth (its proxies' size).
-    resized: bool,
     colliders: Vec<u32>,
     /// Its velocity at the last position update that moved it, and which update that was.
     last_v: Vec3,
@@ -476,7 +474,6 @@ impl KineticBroadPhase {
             growth: 0,
             replanned: 0,
             restless: 0,
-            resized: false,
             colliders: Vec::new(),
             last_v: dvec(rb.linvel()),
             seen: u64::MAX,
@@ -600,17 +597,16 @@ impl KineticBroadPhase {
 
     /// Checks body `h` against its plan at the positions' time and re-fits the plan if the
     /// body left its slack now or would by the end of the step. `force` re-fits anyway.
-    /// Returns whether the plan changed.
+    /// Returns `None` when the plan is kept, else whether the slack changed with it (and so
+    /// the size of the body's proxies).
     fn refit(
         &mut self,
         h: RigidBodyHandle,
         bodies: &RigidBodySet,
         params: &IntegrationParameters,
         force: bool,
-    ) -> bool {
-        let Some(rb) = bodies.get(h) else {
-            return false;
-        };
+    ) -> Option<bool> {
+        let rb = bodies.get(h)?;
         let t = self.clock.pos;
         let dt = self.clock.dt.max(params.dt as Real);
         let m = self.motions.get_mut(h).expect("a motion");
@@ -623,7 +619,7 @@ impl KineticBroadPhase {
         let off_now = (x - m.plan.position_at(t)).length_squared();
         let off_end = (ballistic.position_at(t + dt) - m.plan.position_at(t + dt)).length_squared();
         if !force && off_now <= slack2 && off_end <= slack2 {
-            return false;
+            return None;
         }
         // A body that sleeps, or would stay within half its slack for the next
         // REST_STEPS steps (one resting in a pile), is planned at rest: its box ends then
@@ -649,7 +645,7 @@ impl KineticBroadPhase {
                 growth = growth.saturating_sub(1);
             }
         }
-        m.resized = growth != m.growth;
+        let resized = growth != m.growth;
         if growth > m.growth {
             self.stats.slack_growths += 1;
         } else if growth < m.growth {
@@ -668,16 +664,17 @@ impl KineticBroadPhase {
             m.listed = true;
             self.moving.push(h);
         }
-        true
+        Some(resized)
     }
 
-    /// Gives the structure body `h`'s new plan for each of its colliders.
-    fn replan(&mut self, h: RigidBodyHandle) {
+    /// Gives the structure body `h`'s new plan for each of its colliders; `resized`: with
+    /// proxies of a new size (its slack changed).
+    fn replan(&mut self, h: RigidBodyHandle, resized: bool) {
         self.stats.replans += 1;
         self.step.replans += 1;
         let level = self.clock.kds == self.clock.pos;
         let grow = if level { 0.0 } else { self.lag_growth() };
-        let (plan, resized) = (self.motions[h].plan, self.motions[h].resized);
+        let plan = self.motions[h].plan;
         for i in self.motions[h].colliders.clone() {
             let Some(proxy) = self.proxies[i as usize] else {
                 continue;
@@ -694,9 +691,6 @@ impl KineticBroadPhase {
                 self.put_in(i, proxy.hold, g);
             }
             self.book.apply(&mut self.changes, self.clock.kds);
-        }
-        if let Some(m) = self.motions.get_mut(h) {
-            m.resized = false;
         }
     }
 
@@ -845,8 +839,8 @@ impl BroadPhase for KineticBroadPhase {
                 m.last_v = v;
                 m.seen = update;
             }
-            if self.refit(b, bodies, params, false) {
-                self.replan(b);
+            if let Some(resized) = self.refit(b, bodies, params, false) {
+                self.replan(b, resized);
             }
             if self
                 .motions
@@ -873,7 +867,7 @@ impl BroadPhase for KineticBroadPhase {
                     m.listed = false;
                     m.last_a = None;
                     self.moving.swap_remove(k);
-                    self.replan(b);
+                    self.replan(b, false);
                 } else {
                     k += 1;
                 }

@@ -9,15 +9,11 @@ use rapier3d::prelude::RigidBodyHandle;
 #[derive(Clone, Debug)]
 pub(crate) struct ByBody<T> {
     slots: Vec<Option<(RigidBodyHandle, T)>>,
-    len: usize,
 }
 
 impl<T> Default for ByBody<T> {
     fn default() -> Self {
-        ByBody {
-            slots: Vec::new(),
-            len: 0,
-        }
+        ByBody { slots: Vec::new() }
     }
 }
 
@@ -56,7 +52,6 @@ impl<T> ByBody<T> {
         }
         let slot = &mut self.slots[i];
         if !matches!(slot, Some((k, _)) if *k == h) {
-            self.len += usize::from(slot.is_none());
             *slot = Some((h, make()));
         }
         &mut slot.as_mut().expect("just filled").1
@@ -67,17 +62,11 @@ impl<T> ByBody<T> {
         if !matches!(slot, Some((k, _)) if *k == h) {
             return None;
         }
-        self.len -= 1;
         slot.take().map(|(_, v)| v)
     }
 
     pub(crate) fn iter(&self) -> impl Iterator<Item = (RigidBodyHandle, &T)> {
         self.slots.iter().flatten().map(|(h, v)| (*h, v))
-    }
-
-    #[cfg(test)]
-    pub(crate) fn len(&self) -> usize {
-        self.len
     }
 }
 
@@ -107,9 +96,8 @@ mod tests {
         // The new body with the same index replaces the stale record.
         assert_eq!(*m.get_or_insert_with(a2, || 1), 1);
         assert_eq!(m.get(a), None);
-        assert_eq!(m.len(), 1);
+        assert_eq!(m.iter().count(), 1);
         assert_eq!(m.remove(a2), Some(1));
-        assert_eq!(m.len(), 0);
         assert!(m.iter().next().is_none());
     }
 }
