@@ -22,6 +22,8 @@ pub enum Choice {
     Guards,
     /// [`crate::Grid`].
     Grid,
+    /// [`crate::LooseGrid`].
+    Loose,
 }
 
 /// The scale factor sigma: largest over smallest inner radius (1 for fewer than two objects;

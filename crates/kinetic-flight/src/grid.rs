@@ -63,12 +63,12 @@ const WIDEN_MIN_OBJECTS: usize = 32;
 type CellKey = (i32, i64, i64, i64);
 
 /// A polynomial in local time `tau = t - now`: `[c0, c1, c2]`.
-type Local = [Real; 3];
+pub(crate) type Local = [Real; 3];
 
 /// The first time after `now` at which `c - g` changes sign to `to` (+1 or -1), or `now`
 /// itself when it is already on that side just after `now`; +infinity for never. The roots
 /// are those of `kinetic_core::roots` (the same closed forms, without building a polynomial).
-fn crossing(c: Local, g: Real, to: i8, now: Real) -> Real {
+pub(crate) fn crossing(c: Local, g: Real, to: i8, now: Real) -> Real {
     let p = [c[0] - g, c[1], c[2]];
     let s = sign_after(p);
     if s == to {
@@ -92,6 +92,23 @@ fn crossing(c: Local, g: Real, to: i8, now: Real) -> Real {
         .iter()
         .find(|(_, touch)| !touch)
         .map_or(Real::INFINITY, |(tau, _)| now + tau)
+}
+
+/// The finest cells and the ratio between levels for objects of widths `w`: the smallest
+/// width, and the power of two that spreads the middle 98% of the widths over about
+/// [`BULK_LEVELS`] levels (at most [`MAX_RATIO`]). `None` without a positive finite width.
+pub(crate) fn levels_for(w: impl Iterator<Item = Real>) -> Option<(Real, Real)> {
+    let mut w: Vec<Real> = w.filter(|w| *w > 0.0 && w.is_finite()).collect();
+    if w.is_empty() {
+        return None;
+    }
+    w.sort_unstable_by(Real::total_cmp);
+    let pick = |q: Real| w[((w.len() - 1) as Real * q).round() as usize];
+    let octaves = (pick(0.99) / pick(0.01)).log2();
+    let ratio = (2.0 as Real)
+        .powf((octaves / BULK_LEVELS).ceil().max(1.0))
+        .min(MAX_RATIO);
+    Some((w[0], ratio))
 }
 
 /// The sign of `c` just after local time 0.
@@ -659,22 +676,13 @@ impl CandidateStructure for Grid {
             // The finest cells fit the smallest box. Levels are a power of two apart, so that
             // the middle 98% of sizes span about BULK_LEVELS levels: 2 for similar sizes, wider
             // for a spread (fewer levels for each object to visit).
-            let mut w: Vec<Real> = ids
-                .iter()
-                .map(|&id| {
-                    let (lo, hi) = box_ends(bodies, id);
-                    (hi - lo).max_element()
-                })
-                .filter(|w| *w > 0.0 && w.is_finite())
-                .collect();
-            if !w.is_empty() {
-                w.sort_unstable_by(Real::total_cmp);
-                let pick = |q: Real| w[((w.len() - 1) as Real * q).round() as usize];
-                let octaves = (pick(0.99) / pick(0.01)).log2();
-                self.base = Some(w[0]);
-                self.ratio = (2.0 as Real)
-                    .powf((octaves / BULK_LEVELS).ceil().max(1.0))
-                    .min(MAX_RATIO);
+            let w = ids.iter().map(|&id| {
+                let (lo, hi) = box_ends(bodies, id);
+                (hi - lo).max_element()
+            });
+            if let Some((base, ratio)) = levels_for(w) {
+                self.base = Some(base);
+                self.ratio = ratio;
             }
         }
         self.widen_for(ids, bodies, now);

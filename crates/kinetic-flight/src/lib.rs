@@ -19,6 +19,10 @@
 //! - [`Grid`] (not in the paper): the sweep's candidates, found among the objects that share
 //!   a cell of a hierarchical kinetic grid (one level per box size), so that its events are
 //!   cell crossings and box events of neighbours instead of swaps of global orders.
+//! - [`LooseGrid`] (not in the paper): each object holds a fixed region its box stays in for
+//!   a while on its plan (one certificate per object, its exit time); candidates are the
+//!   objects whose regions overlap, a superset of the sweep's. A re-plan that stays inside
+//!   the region costs one root computation, so it suits bodies whose plans keep failing.
 //! - [`choose`]: the sweep when inner radii differ by at most [`SIGMA_MAX`], guards otherwise.
 //!
 //! ```
@@ -46,6 +50,7 @@ mod choose;
 mod cones;
 mod grid;
 mod guards;
+mod loose;
 mod shape;
 mod sweep;
 
@@ -53,5 +58,6 @@ pub use choose::{Choice, RHO_MAX, SIGMA_MAX, choose, guard_fatness, scale_factor
 pub use cones::{Cone, ConeSet};
 pub use grid::Grid;
 pub use guards::{GuardGrid, Guards};
+pub use loose::LooseGrid;
 pub use shape::{ConvexShape, ShapeError, fatness};
 pub use sweep::Sweep;

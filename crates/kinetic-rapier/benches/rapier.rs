@@ -83,6 +83,7 @@ fn kinetic() -> KineticBroadPhase {
         Ok("grid") => KineticBroadPhase::default().with_structure(Choice::Grid),
         Ok("sweep") => KineticBroadPhase::default().with_structure(Choice::Sweep),
         Ok("guards") => KineticBroadPhase::default().with_structure(Choice::Guards),
+        Ok("loose") => KineticBroadPhase::default().with_structure(Choice::Loose),
         _ => KineticBroadPhase::default(),
     }
 }

@@ -66,9 +66,9 @@ mod proxy;
 pub mod scenes;
 
 use kinetic_core::{Body, CandidateStructure, FlightPlan, PairChange, Real, Shape, Vec3};
-use kinetic_flight::{Choice, ConvexShape, Grid, Guards, Sweep};
+use kinetic_flight::{Choice, ConvexShape, Grid, Guards, LooseGrid, Sweep};
 use motions::ByBody;
-use pairs::{PairBook, PairOut, proxies_meet};
+use pairs::{PairBook, PairOut, proxies_apart_until, proxies_meet};
 use proxy::{Hold, centre_of_mass, dvec, fit};
 use rapier3d::prelude::*;
 
@@ -84,6 +84,9 @@ const RESTLESS_RUN: u32 = 4;
 const MAX_GROWTH: u32 = 3;
 /// ... and halved at a re-plan that comes at least this many updates after the last.
 const CALM_UPDATES: u64 = 60;
+
+/// Moving colliders whose radii (the middle 98%) are within this factor get the loose grid.
+const SIZES_ALIKE: Real = 8.0;
 
 /// A candidate structure the broad phase can hold across threads.
 type Structure = Box<dyn CandidateStructure + Send + Sync>;
@@ -188,6 +191,9 @@ pub struct KineticBroadPhase {
     min_slack: Real,
     structure: Option<Structure>,
     bodies: Vec<Option<Body>>,
+    /// Per collider, the version of its proxy's plan (bumped at every change), for the pair
+    /// book's gate to know when to ask again.
+    plans: Vec<u32>,
     proxies: Vec<Option<Proxy>>,
     motions: ByBody<Motion>,
     /// Bodies whose plans are not at rest, in the order they started moving.
@@ -244,6 +250,7 @@ impl KineticBroadPhase {
             min_slack: 1e-3,
             structure: None,
             bodies: Vec::new(),
+            plans: Vec::new(),
             proxies: Vec::new(),
             motions: ByBody::default(),
             moving: Vec::new(),
@@ -372,7 +379,9 @@ impl KineticBroadPhase {
             Hold::Fixed { min, max } => {
                 let half = (max - min) / 2.0;
                 match (choice, ConvexShape::cuboid(half)) {
-                    (Choice::Sweep | Choice::Grid, Ok(cuboid)) => cuboid.into_shape(),
+                    (Choice::Sweep | Choice::Grid | Choice::Loose, Ok(cuboid)) => {
+                        cuboid.into_shape()
+                    }
                     _ => Shape::Ball {
                         radius: half.length().max(1e-9),
                     },
@@ -426,6 +435,7 @@ impl KineticBroadPhase {
             s.remove(i, &self.bodies, self.clock.kds, &mut self.changes);
         }
         self.bodies[i as usize] = None;
+        self.plans[i as usize] = self.plans[i as usize].wrapping_add(1);
     }
 
     /// Puts collider `i` with `hold` into the structure at its clock, grown by `grow` (a
@@ -440,6 +450,7 @@ impl KineticBroadPhase {
         }
         let plan = self.plan_of(&hold);
         self.bodies[i as usize] = Some(Body { shape, plan });
+        self.plans[i as usize] = self.plans[i as usize].wrapping_add(1);
         let s = self.structure.as_mut().expect("a structure");
         s.insert(i, &self.bodies, self.clock.kds, &mut self.changes);
         self.proxies[i as usize].as_mut().expect("held").grown_until =
@@ -451,8 +462,8 @@ impl KineticBroadPhase {
         self.step.inserts += 1;
     }
 
-    /// The structure: the caller's, or the grid, which sorts the colliders into levels by
-    /// size and won every scene of the benchmark (see the crate's README).
+    /// The structure: the caller's, or the one picked for the first colliders, or the grid
+    /// before any.
     fn structure_choice(&self) -> Choice {
         self.choice.unwrap_or(Choice::Grid)
     }
@@ -461,6 +472,7 @@ impl KineticBroadPhase {
         let need = i as usize + 1;
         if self.bodies.len() < need {
             self.bodies.resize(need, None);
+            self.plans.resize(need, 0);
             self.proxies.resize(need, None);
         }
     }
@@ -528,12 +540,13 @@ impl KineticBroadPhase {
             });
         }
         if self.structure.is_none() {
-            let choice = self.structure_choice();
+            let choice = self.choice.unwrap_or_else(|| pick_structure(&holds));
             self.choice = Some(choice);
             self.structure = Some(match choice {
                 Choice::Sweep => Box::new(Sweep::new()),
                 Choice::Guards => Box::new(Guards::new(1.0)),
                 Choice::Grid => Box::new(Grid::new()),
+                Choice::Loose => Box::new(LooseGrid::new()),
             });
         }
         let grow = self.lag_growth();
@@ -547,6 +560,7 @@ impl KineticBroadPhase {
                     shape: self.shape(hold, choice),
                     plan: self.plan_of(hold),
                 });
+                self.plans[i] = self.plans[i].wrapping_add(1);
             }
             let s = self.structure.as_mut().expect("a structure");
             s.insert_many(&ids, &self.bodies, self.clock.kds, &mut self.changes);
@@ -682,6 +696,7 @@ impl KineticBroadPhase {
             if level && proxy.grown_until.is_none() && !resized {
                 let body = self.bodies[i as usize].as_mut().expect("held");
                 body.plan = plan;
+                self.plans[i as usize] = self.plans[i as usize].wrapping_add(1);
                 let s = self.structure.as_mut().expect("a structure");
                 s.replan(i, &self.bodies, self.clock.kds, &mut self.changes);
             } else {
@@ -729,6 +744,30 @@ fn meet(bodies: &[Option<Body>], clock: Clock) -> impl Fn(u32, u32) -> bool + '_
     move |a, b| match (&bodies[a as usize], &bodies[b as usize]) {
         (Some(x), Some(y)) => proxies_meet(x, y, clock.pos, clock.kds),
         _ => true,
+    }
+}
+
+/// The structure for the first colliders `holds`: the loose grid when the moving ones are of
+/// alike sizes (the middle 98% of their radii within a factor [`SIZES_ALIKE`]: a rain, a
+/// pile), the grid otherwise (a debris field, where small pieces drift as fast as large ones
+/// and would leave regions sized by their own width every few steps).
+fn pick_structure(holds: &[(ColliderHandle, Hold)]) -> Choice {
+    let mut r: Vec<Real> = holds
+        .iter()
+        .filter_map(|(_, h)| match *h {
+            Hold::Moving { radius, .. } if radius > 0.0 && radius.is_finite() => Some(radius),
+            _ => None,
+        })
+        .collect();
+    if r.is_empty() {
+        return Choice::Grid;
+    }
+    r.sort_unstable_by(Real::total_cmp);
+    let pick = |q: Real| r[((r.len() - 1) as Real * q).round() as usize];
+    if pick(0.99) <= SIZES_ALIKE * pick(0.01) {
+        Choice::Loose
+    } else {
+        Choice::Grid
     }
 }
 
@@ -903,9 +942,15 @@ impl BroadPhase for KineticBroadPhase {
         // The start of a step with no change since the last call: nothing new to hand over.
         let window = (self.clock.pos, self.clock.kds);
         if !starts_step || self.book.take_changed() || window != self.emitted {
+            let (bodies, plans, clock) = (&self.bodies, &self.plans, self.clock);
             self.book.emit(
-                self.clock.pos,
-                meet(&self.bodies, self.clock),
+                clock.pos,
+                clock.kds,
+                |a, b| match (&bodies[a as usize], &bodies[b as usize]) {
+                    (Some(x), Some(y)) => proxies_apart_until(x, y, clock.pos, clock.kds),
+                    _ => Real::NEG_INFINITY,
+                },
+                |i| plans[i as usize],
                 &mut self.out,
             );
             self.emitted = window;

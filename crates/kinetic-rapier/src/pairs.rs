@@ -9,7 +9,7 @@
 //! window it is absent from: it stopped being a candidate before the positions' time and has
 //! not come back by the window's end, or its two balls stay apart over the whole window.
 
-use kinetic_core::{Body, PairChange, Real, Shape};
+use kinetic_core::{Body, PairChange, Real, Shape, Vec3};
 use rustc_hash::FxHashMap;
 
 /// One pair's state.
@@ -21,6 +21,10 @@ struct PairState {
     reported: bool,
     /// When its count last fell to 0.
     dropped_at: Real,
+    /// The gate's last answer: the proxies cannot meet before this time (minus infinity:
+    /// they may meet now), while their plans are still those of versions `plans`.
+    apart_until: Real,
+    plans: (u32, u32),
 }
 
 /// What the pair book asks rapier to do.
@@ -51,6 +55,8 @@ impl PairBook {
                 count: 0,
                 reported: false,
                 dropped_at: Real::NEG_INFINITY,
+                apart_until: Real::NEG_INFINITY,
+                plans: (u32::MAX, u32::MAX),
             });
             let before = e.count;
             e.count += c.delta;
@@ -87,13 +93,18 @@ impl PairBook {
         }
     }
 
-    /// Emits the events of one call whose positions are at time `t_pos`: a pair that dropped
-    /// out before `t_pos` and is still out is deleted; every other pair is added or deleted
-    /// as `meet` (whether its two proxies can meet within the call's window) says.
+    /// Emits the events of one call whose window runs from the positions' time `t_pos` to
+    /// `t_end`: a pair that dropped out before `t_pos` and is still out is deleted; every
+    /// other pair is added or deleted as the gate says. `apart(a, b)` is the time before
+    /// which the two proxies cannot meet (at least `t_end` when they cannot meet within the
+    /// window, minus infinity when they can); it is asked again only once the window's end
+    /// passes its last answer or a proxy's plan changed (`plan(i)`, its plan's version).
     pub(crate) fn emit(
         &mut self,
         t_pos: Real,
-        meet: impl Fn(u32, u32) -> bool,
+        t_end: Real,
+        apart: impl Fn(u32, u32) -> Real,
+        plan: impl Fn(u32) -> u32,
         out: &mut Vec<PairOut>,
     ) {
         let mut reported = self.reported;
@@ -105,7 +116,12 @@ impl PairBook {
                 }
                 return false;
             }
-            let want = meet(a, b);
+            let plans = (plan(a), plan(b));
+            if plans != e.plans || e.apart_until < t_end {
+                e.apart_until = apart(a, b);
+                e.plans = plans;
+            }
+            let want = e.apart_until < t_end;
             if want != e.reported {
                 e.reported = want;
                 if want {
@@ -178,14 +194,49 @@ impl PairBook {
     }
 }
 
+/// The time before which proxies `a` and `b`, on their plans, cannot meet, looking from `t0`:
+/// minus infinity when they can meet between `t0` and `t1` ([`proxies_meet`]), else at least
+/// `t1`. Beyond the window it is a lower bound from their outer balls: the gap now less the
+/// most the relative velocity and acceleration can close.
+pub(crate) fn proxies_apart_until(a: &Body, b: &Body, t0: Real, t1: Real) -> Real {
+    if proxies_meet(a, b, t0, t1) {
+        return Real::NEG_INFINITY;
+    }
+    let (pa, pb) = (a.plan.position_at(t0), b.plan.position_at(t0));
+    let d0 = (pa - pb).length();
+    let d1 = (a.plan.velocity_at(t0) - b.plan.velocity_at(t0)).length();
+    let d2 = ((a.plan.acceleration - b.plan.acceleration) * 0.5).length();
+    let reach = a.shape.outer_radius() + b.shape.outer_radius();
+    let tol = 1e-9 * (reach + pa.abs().max_element() + pb.abs().max_element());
+    // The first tau with d1 tau + d2 tau^2 = gap: the outer balls stay apart before it.
+    let gap = d0 - reach - 2.0 * tol;
+    if gap <= 0.0 {
+        return t1;
+    }
+    let tau = 2.0 * gap / (d1 + (d1 * d1 + 4.0 * d2 * gap).sqrt());
+    if tau.is_nan() {
+        return t1;
+    }
+    t1.max(t0 + tau * (1.0 - 1e-9))
+}
+
 /// Whether proxies `a` and `b`, on their plans, can meet between `t0` and `t1`: for two
 /// balls, whether their centres come within the sum of their radii (conservatively: the
 /// relative acceleration's part is bounded by its largest value over the window, and a
-/// rounding allowance is added); for other shapes, always (their boxes overlap, or the
-/// structure would not hold the pair).
+/// rounding allowance is added); for other shapes, whether the boxes they sweep over the
+/// window overlap.
 pub(crate) fn proxies_meet(a: &Body, b: &Body, t0: Real, t1: Real) -> bool {
     let (Shape::Ball { radius: ra }, Shape::Ball { radius: rb }) = (&a.shape, &b.shape) else {
-        return true;
+        let ((alo, ahi), (blo, bhi)) = (swept_box(a, t0, t1), swept_box(b, t0, t1));
+        let tol = 1e-9 * (a.shape.outer_radius() + b.shape.outer_radius())
+            + 1e-12
+                * alo
+                    .abs()
+                    .max(ahi.abs())
+                    .max(blo.abs())
+                    .max(bhi.abs())
+                    .max_element();
+        return (alo - bhi).max_element() <= tol && (blo - ahi).max_element() <= tol;
     };
     let (pa, pb) = (a.plan.position_at(t0), b.plan.position_at(t0));
     let d0 = pa - pb;
@@ -205,10 +256,35 @@ pub(crate) fn proxies_meet(a: &Body, b: &Body, t0: Real, t1: Real) -> bool {
     gap <= reach + tol
 }
 
+/// The box that `body` sweeps between `t0` and `t1`: its own box (when it does not spin and
+/// its geometry gives one) or its outer ball's, about each position on the way.
+fn swept_box(body: &Body, t0: Real, t1: Real) -> (Vec3, Vec3) {
+    let plan = &body.plan;
+    let r = body.shape.outer_radius();
+    let own = match &body.shape {
+        Shape::Convex(g) if plan.angular_velocity == Vec3::ZERO => g.local_aabb(plan.orientation),
+        _ => None,
+    };
+    let (lo, hi) = own.unwrap_or((Vec3::splat(-r), Vec3::splat(r)));
+    let h = (t1 - t0).max(0.0);
+    let (p0, v) = (plan.position_at(t0), plan.velocity_at(t0));
+    let (mut plo, mut phi) = (p0, p0);
+    for k in 0..3 {
+        let (a, vk) = (plan.acceleration[k], v[k]);
+        let at = |t: Real| p0[k] + (vk + 0.5 * a * t) * t;
+        let turn = if a != 0.0 { -vk / a } else { 0.0 };
+        for t in [h, if turn > 0.0 && turn < h { turn } else { 0.0 }] {
+            plo[k] = plo[k].min(at(t));
+            phi[k] = phi[k].max(at(t));
+        }
+    }
+    (plo + lo, phi + hi)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use kinetic_core::{FlightPlan, Vec3};
+    use kinetic_core::FlightPlan;
 
     fn change(a: u32, b: u32, delta: i32) -> PairChange {
         PairChange { a, b, delta }
@@ -218,12 +294,26 @@ mod tests {
         true
     }
 
+    /// A gate for which every pair can meet.
+    fn meets(_: u32, _: u32) -> Real {
+        Real::NEG_INFINITY
+    }
+
+    /// A gate for which every pair stays apart until `t` (the window's end).
+    fn apart(t: Real) -> impl Fn(u32, u32) -> Real {
+        move |_, _| t
+    }
+
+    fn same_plans(_: u32) -> u32 {
+        0
+    }
+
     #[test]
     fn a_candidate_goes_to_rapier_only_while_its_proxies_can_meet() {
         let mut book = PairBook::default();
         let mut out = Vec::new();
         book.apply(&mut vec![change(0, 1, 1)], 0.0);
-        book.emit(0.0, |_, _| false, &mut out);
+        book.emit(0.0, 1.0, apart(1.0), same_plans, &mut out);
         assert!(out.is_empty());
         assert_eq!(book.candidates(), 1);
         book.audit(true, |_, _| false).unwrap();
@@ -231,14 +321,83 @@ mod tests {
             book.audit(true, always).is_err(),
             "a meeting candidate must be reported"
         );
-        book.emit(1.0, always, &mut out);
+        book.emit(1.0, 2.0, meets, same_plans, &mut out);
         assert_eq!(out, vec![PairOut::Add(0, 1)]);
         // Still a candidate, but its balls stay apart over the next window: deleted.
         out.clear();
-        book.emit(2.0, |_, _| false, &mut out);
+        book.emit(2.0, 3.0, apart(3.0), same_plans, &mut out);
         assert_eq!(out, vec![PairOut::Delete(0, 1)]);
         assert_eq!(book.reported(), 0);
         assert_eq!(book.candidates(), 1);
+    }
+
+    #[test]
+    fn the_gate_is_asked_again_only_once_its_answer_runs_out_or_a_plan_changes() {
+        use std::cell::Cell;
+        let mut book = PairBook::default();
+        let mut out = Vec::new();
+        book.apply(&mut vec![change(0, 1, 1)], 0.0);
+        let asked = Cell::new(0);
+        // Apart until 3.5 on plans of version 0.
+        let gate = |_, _| {
+            asked.set(asked.get() + 1);
+            3.5
+        };
+        let version = Cell::new(0);
+        let plan = |_| version.get();
+        for t in [0.0, 1.0, 2.0, 2.4] {
+            book.emit(t, t + 1.0, gate, plan, &mut out);
+        }
+        assert_eq!(asked.get(), 1, "windows ending by 3.5 reuse the answer");
+        version.set(1);
+        book.emit(2.5, 3.5, gate, plan, &mut out);
+        assert_eq!(asked.get(), 2, "a new plan asks again");
+        assert!(out.is_empty());
+        // A window past 3.5 asks again: the proxies meet now, and are asked at every call.
+        let meet = |_, _| {
+            asked.set(asked.get() + 1);
+            Real::NEG_INFINITY
+        };
+        book.emit(3.0, 4.0, meet, plan, &mut out);
+        book.emit(3.1, 4.1, meet, plan, &mut out);
+        assert_eq!(asked.get(), 4);
+        assert_eq!(out, vec![PairOut::Add(0, 1)]);
+        book.emit(4.0, 5.0, |_, _| Real::INFINITY, plan, &mut out);
+        assert_eq!(out, vec![PairOut::Add(0, 1), PairOut::Delete(0, 1)]);
+    }
+
+    #[test]
+    fn a_ball_and_a_box_meet_when_their_swept_boxes_overlap() {
+        let slab = Body {
+            shape: kinetic_flight::ConvexShape::cuboid(Vec3::new(10.0, 0.5, 10.0))
+                .unwrap()
+                .into_shape(),
+            plan: FlightPlan::at_rest(Vec3::new(0.0, -0.5, 0.0)),
+        };
+        // A ball of radius 0.5 falling from 3 at speed 2: its box reaches the slab's top at
+        // t = 1.25.
+        let ball = ball(
+            0.5,
+            FlightPlan::linear(Vec3::new(0.0, 3.0, 0.0), Vec3::new(0.0, -2.0, 0.0)),
+        );
+        assert!(!proxies_meet(&ball, &slab, 0.0, 1.2));
+        assert!(proxies_meet(&ball, &slab, 0.0, 1.3));
+        assert!(proxies_meet(&slab, &ball, 1.2, 1.3));
+        // Apart over [0, 1.2], and no earlier than the outer balls allow after.
+        let until = proxies_apart_until(&ball, &slab, 0.0, 1.2);
+        assert!((1.2..1.25).contains(&until), "{until}");
+        // Two balls closing at 1 from a gap of 3: apart until 3 (to rounding).
+        let (a, b) = (ball_at(1.0, 0.0, 0.0), ball_at(1.0, 5.0, -1.0));
+        let until = proxies_apart_until(&a, &b, 0.0, 1.0);
+        assert!((until - 3.0).abs() < 1e-6, "{until}");
+        assert_eq!(proxies_apart_until(&a, &b, 0.0, 3.5), Real::NEG_INFINITY);
+    }
+
+    fn ball_at(radius: Real, x: Real, v: Real) -> Body {
+        ball(
+            radius,
+            FlightPlan::linear(Vec3::new(x, 0.0, 0.0), Vec3::new(v, 0.0, 0.0)),
+        )
     }
 
     fn ball(radius: Real, plan: FlightPlan) -> Body {
@@ -305,15 +464,15 @@ mod tests {
         // Window [0, 1]: the pair appears at 0.4 and leaves at 0.6.
         book.apply(&mut vec![change(3, 1, 1)], 0.4);
         book.apply(&mut vec![change(1, 3, -1)], 0.6);
-        book.emit(0.0, always, &mut out);
+        book.emit(0.0, 1.0, meets, same_plans, &mut out);
         assert_eq!(out, vec![PairOut::Add(1, 3)]);
         assert!(book.has(1, 3));
         // Next call, positions at 0.5: it left at 0.6, within that call's window: kept.
         out.clear();
-        book.emit(0.5, always, &mut out);
+        book.emit(0.5, 1.5, meets, same_plans, &mut out);
         assert!(out.is_empty());
         // Positions at 1.0: it has been out since 0.6: deleted.
-        book.emit(1.0, always, &mut out);
+        book.emit(1.0, 2.0, meets, same_plans, &mut out);
         assert_eq!(out, vec![PairOut::Delete(1, 3)]);
         assert_eq!(book.reported(), 0);
         book.audit(true, always).unwrap();
@@ -324,12 +483,12 @@ mod tests {
         let mut book = PairBook::default();
         let mut out = Vec::new();
         book.apply(&mut vec![change(0, 2, 1), change(0, 2, 1)], 0.0);
-        book.emit(0.0, always, &mut out);
+        book.emit(0.0, 1.0, meets, same_plans, &mut out);
         book.apply(&mut vec![change(0, 2, -1)], 0.5);
-        book.emit(1.0, always, &mut out);
+        book.emit(1.0, 2.0, meets, same_plans, &mut out);
         assert_eq!(out, vec![PairOut::Add(0, 2)]);
         book.apply(&mut vec![change(0, 2, -1)], 1.5);
-        book.emit(2.0, always, &mut out);
+        book.emit(2.0, 3.0, meets, same_plans, &mut out);
         assert_eq!(out, vec![PairOut::Add(0, 2), PairOut::Delete(0, 2)]);
     }
 
@@ -338,11 +497,11 @@ mod tests {
         let mut book = PairBook::default();
         let mut out = Vec::new();
         book.apply(&mut vec![change(0, 1, 1), change(1, 2, 1)], 0.0);
-        book.emit(0.0, always, &mut out);
+        book.emit(0.0, 1.0, meets, same_plans, &mut out);
         book.apply(&mut vec![change(1, 2, -1)], 0.5);
         book.forget(1, &mut vec![change(0, 1, -1)]);
         out.clear();
-        book.emit(2.0, always, &mut out);
+        book.emit(2.0, 3.0, meets, same_plans, &mut out);
         assert!(out.is_empty(), "{out:?}");
         assert_eq!(book.reported(), 0);
         book.audit(true, always).unwrap();

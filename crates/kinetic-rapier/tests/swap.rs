@@ -90,6 +90,9 @@ fn kinematic_bodies_touch_as_with_the_default_broad_phase() {
         differential(seed, 60, 0.3, 0.8, 150, Choice::Grid);
     }
     differential(3, 60, 0.3, 0.8, 150, Choice::Sweep);
+    for seed in 4..6 {
+        differential(seed, 60, 0.3, 0.8, 150, Choice::Loose);
+    }
 }
 
 #[test]
@@ -98,6 +101,7 @@ fn kinematic_debris_of_three_orders_of_size_touch_as_with_the_default_broad_phas
         differential(seed, 80, 0.02, 3.0, 120, Choice::Grid);
     }
     differential(12, 80, 0.02, 3.0, 120, Choice::Guards);
+    differential(13, 80, 0.02, 3.0, 120, Choice::Loose);
 }
 
 /// Balls and boxes dropped in a heap onto a ground slab.

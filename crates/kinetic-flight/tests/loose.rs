@@ -1,0 +1,236 @@
+//! The loose grid on its own, driven event by event with its audit after each (regions,
+//! cells, exit times, and partners against a brute force over all regions): its candidates
+//! must hold every pair of overlapping boxes at sampled times, through fast and accelerated
+//! bodies, re-plans that keep or leave their regions, sizes over two orders of magnitude,
+//! and removals.
+
+use kinetic_core::{Bodies, Body, CandidateStructure, FlightPlan, PairChange, Shape, Vec3};
+use kinetic_flight::{ConvexShape, LooseGrid};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::collections::{BTreeMap, BTreeSet};
+
+/// The loose grid with the candidate set its changes describe.
+struct Driven {
+    grid: LooseGrid,
+    count: BTreeMap<(u32, u32), i32>,
+    changes: Vec<PairChange>,
+}
+
+impl Driven {
+    fn new() -> Driven {
+        Driven {
+            grid: LooseGrid::new(),
+            count: BTreeMap::new(),
+            changes: Vec::new(),
+        }
+    }
+
+    fn absorb(&mut self) {
+        for c in self.changes.drain(..) {
+            assert!(c.a < c.b, "pair {c:?} out of order");
+            let n = self.count.entry((c.a, c.b)).or_default();
+            *n += c.delta;
+            assert!(*n == 0 || *n == 1, "pair ({}, {}) counted {n}", c.a, c.b);
+        }
+        self.count.retain(|_, n| *n > 0);
+    }
+
+    fn candidates(&self) -> BTreeSet<(u32, u32)> {
+        self.count.keys().copied().collect()
+    }
+
+    /// Runs the grid's events up to `t`, auditing after each.
+    fn advance(&mut self, bodies: &Bodies, t: f64) -> usize {
+        let mut events = 0;
+        while self.grid.next_event_time() <= t {
+            let at = self.grid.next_event_time();
+            self.grid.process_next_event(bodies, &mut self.changes);
+            self.absorb();
+            events += 1;
+            self.grid
+                .validate(bodies, at)
+                .unwrap_or_else(|e| panic!("after an event at {at}: {e}"));
+        }
+        events
+    }
+}
+
+/// Every pair whose boxes (the outer balls', or a resting cuboid's own) overlap at `t`.
+fn overlapping(bodies: &Bodies, t: f64) -> BTreeSet<(u32, u32)> {
+    let bx = |b: &Body| {
+        let c = b.plan.position_at(t);
+        let r = b.shape.outer_radius();
+        let own = match &b.shape {
+            Shape::Convex(g) => g.local_aabb(b.plan.orientation),
+            _ => None,
+        };
+        let (lo, hi) = own.unwrap_or((Vec3::splat(-r), Vec3::splat(r)));
+        (c + lo, c + hi)
+    };
+    let mut out = BTreeSet::new();
+    for (i, a) in bodies.iter().enumerate() {
+        let Some(a) = a else { continue };
+        for (j, b) in bodies.iter().enumerate().skip(i + 1) {
+            let Some(b) = b else { continue };
+            let ((alo, ahi), (blo, bhi)) = (bx(a), bx(b));
+            if (0..3).all(|k| alo[k] <= bhi[k] && blo[k] <= ahi[k]) {
+                out.insert((i as u32, j as u32));
+            }
+        }
+    }
+    out
+}
+
+fn check(d: &Driven, bodies: &Bodies, t: f64) {
+    let have = d.candidates();
+    if let Some(missing) = overlapping(bodies, t).difference(&have).next() {
+        panic!("t = {t}: pair {missing:?} overlaps but is not a candidate");
+    }
+}
+
+#[test]
+fn a_crowd_with_fast_falling_and_resting_bodies_keeps_every_overlapping_pair() {
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let mut bodies: Vec<Option<Body>> = Vec::new();
+    // 250 drifting balls, 40 at rest, 20 falling fast, 6 large, in a 20-unit cube.
+    for k in 0..316 {
+        let r = match k {
+            0..250 => rng.random_range(0.1..0.3),
+            250..290 => rng.random_range(0.1..0.3),
+            290..310 => rng.random_range(0.05..0.1),
+            _ => rng.random_range(2.0..5.0),
+        };
+        let p = Vec3::new(
+            rng.random_range(-10.0..10.0),
+            rng.random_range(-10.0..10.0),
+            rng.random_range(-10.0..10.0),
+        );
+        let v = Vec3::new(
+            rng.random_range(-2.0..2.0),
+            rng.random_range(-2.0..2.0),
+            rng.random_range(-2.0..2.0),
+        );
+        let plan = match k {
+            250..290 => FlightPlan::at_rest(p),
+            290..310 => FlightPlan::accelerated(p, v * 4.0, Vec3::new(0.0, -9.81, 0.0)),
+            _ => FlightPlan::linear(p, v),
+        };
+        bodies.push(Some(Body {
+            shape: Shape::Ball { radius: r },
+            plan,
+        }));
+    }
+    // A resting slab, as rapier's ground.
+    bodies.push(Some(Body {
+        shape: ConvexShape::cuboid(Vec3::new(12.0, 0.5, 12.0))
+            .unwrap()
+            .into_shape(),
+        plan: FlightPlan::at_rest(Vec3::new(0.0, -10.5, 0.0)),
+    }));
+    let mut d = Driven::new();
+    let ids: Vec<u32> = (0..bodies.len() as u32).collect();
+    d.grid.insert_many(&ids, &bodies, 0.0, &mut d.changes);
+    d.absorb();
+    d.grid.validate(&bodies, 0.0).unwrap();
+    check(&d, &bodies, 0.0);
+    let mut events = 0;
+    for step in 1..=60 {
+        let t = step as f64 * 0.05;
+        events += d.advance(&bodies, t);
+        check(&d, &bodies, t);
+        // Every few steps: nudge some bodies (small changes keep their regions, large ones
+        // leave them) and drop one.
+        if step % 4 == 0 {
+            for _ in 0..12 {
+                let id = rng.random_range(0..316);
+                let Some(body) = bodies[id].as_mut() else {
+                    continue;
+                };
+                let v = body.plan.velocity_at(t);
+                let nudge = if rng.random_bool(0.5) { 0.05 } else { 3.0 };
+                let v = v + Vec3::new(
+                    rng.random_range(-nudge..nudge),
+                    rng.random_range(-nudge..nudge),
+                    rng.random_range(-nudge..nudge),
+                );
+                body.plan = body.plan.replanned(t, v);
+                d.grid.replan(id as u32, &bodies, t, &mut d.changes);
+                d.absorb();
+                d.grid.validate(&bodies, t).unwrap();
+            }
+            let gone = rng.random_range(0..316);
+            if bodies[gone].is_some() {
+                d.grid.remove(gone as u32, &bodies, t, &mut d.changes);
+                d.absorb();
+                bodies[gone] = None;
+                d.grid.validate(&bodies, t).unwrap();
+            }
+            check(&d, &bodies, t);
+        }
+    }
+    let counters: BTreeMap<&str, f64> = d.grid.counters().into_iter().collect();
+    assert!(counters["anchors"] > 1000.0, "{counters:?}");
+    assert!(counters["regions_kept"] > 20.0, "{counters:?}");
+    assert!(counters["levels"] >= 3.0, "{counters:?}");
+    assert!(events > 500, "{events}");
+    // Superset, but not wildly so: regions reach a few box widths.
+    let overlapping = overlapping(&bodies, 3.0).len();
+    assert!(
+        d.candidates().len() < 20 * overlapping.max(10),
+        "{} candidates for {overlapping} overlapping boxes",
+        d.candidates().len()
+    );
+}
+
+#[test]
+fn a_body_at_rest_keeps_its_region_and_a_fast_one_moves_on() {
+    let ball = |r: f64| Shape::Ball { radius: r };
+    let mut bodies: Vec<Option<Body>> = vec![
+        Some(Body {
+            shape: ball(1.0),
+            plan: FlightPlan::at_rest(Vec3::ZERO),
+        }),
+        Some(Body {
+            shape: ball(1.0),
+            plan: FlightPlan::linear(Vec3::new(-20.0, 0.0, 0.0), Vec3::new(4.0, 0.0, 0.0)),
+        }),
+    ];
+    let mut d = Driven::new();
+    d.grid.insert_many(&[0, 1], &bodies, 0.0, &mut d.changes);
+    d.absorb();
+    assert!(d.candidates().is_empty());
+    // The resting ball never leaves its region: no event of its own.
+    let events = d.advance(&bodies, 3.0);
+    assert!(
+        events >= 2,
+        "the moving ball re-anchors every 2 widths: {events}"
+    );
+    // Boxes touch at t = 4.5 (x = -2): the pair is a candidate by then, and until they part.
+    d.advance(&bodies, 4.5);
+    assert_eq!(d.candidates(), BTreeSet::from([(0, 1)]));
+    d.advance(&bodies, 5.5);
+    assert_eq!(d.candidates(), BTreeSet::from([(0, 1)]));
+    d.advance(&bodies, 9.0);
+    assert!(d.candidates().is_empty());
+    // A small re-plan of the resting ball keeps its region.
+    let kept = |d: &Driven| {
+        d.grid
+            .counters()
+            .into_iter()
+            .find(|c| c.0 == "regions_kept")
+            .unwrap()
+            .1
+    };
+    // (The other ball stops, far off, so that the only event left is the first one's.)
+    bodies[1].as_mut().unwrap().plan = FlightPlan::at_rest(Vec3::new(16.0, 0.0, 0.0));
+    d.grid.replan(1, &bodies, 9.0, &mut d.changes);
+    bodies[0].as_mut().unwrap().plan =
+        FlightPlan::linear(Vec3::ZERO, Vec3::new(0.0, 0.01, 0.0)).starting_at(9.0);
+    d.grid.replan(0, &bodies, 9.0, &mut d.changes);
+    assert_eq!(kept(&d), 2.0);
+    d.grid.validate(&bodies, 9.0).unwrap();
+    // Its box leaves the region (margin 0.5) after 0.5 / 0.01 = 50.
+    let next = d.grid.next_event_time();
+    assert!(next > 9.0 + 49.0, "{next}");
+}
