@@ -3,57 +3,15 @@
 //! fast and accelerated bodies crossing many cells, re-plans, a re-plan that moves a body
 //! to another level, and removals.
 
-use kinetic_core::{Bodies, Body, CandidateStructure, FlightPlan, PairChange, Quat, Shape, Vec3};
+mod common;
+
+use kinetic_core::{Bodies, Body, CandidateStructure, FlightPlan, Quat, Shape, Vec3};
 use kinetic_flight::{ConvexShape, Grid};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::collections::{BTreeMap, BTreeSet};
 
-/// The grid with the candidate set its changes describe.
-struct Driven {
-    grid: Grid,
-    count: BTreeMap<(u32, u32), i32>,
-    changes: Vec<PairChange>,
-}
-
-impl Driven {
-    fn new() -> Driven {
-        Driven {
-            grid: Grid::new(),
-            count: BTreeMap::new(),
-            changes: Vec::new(),
-        }
-    }
-
-    fn absorb(&mut self) {
-        for c in self.changes.drain(..) {
-            assert!(c.a < c.b, "pair {c:?} out of order");
-            let n = self.count.entry((c.a, c.b)).or_default();
-            *n += c.delta;
-            assert!(*n == 0 || *n == 1, "pair ({}, {}) counted {n}", c.a, c.b);
-        }
-        self.count.retain(|_, n| *n > 0);
-    }
-
-    fn candidates(&self) -> BTreeSet<(u32, u32)> {
-        self.count.keys().copied().collect()
-    }
-
-    /// Runs the grid's events up to `t`, auditing after each.
-    fn advance(&mut self, bodies: &Bodies, t: f64) -> usize {
-        let mut events = 0;
-        while self.grid.next_event_time() <= t {
-            let at = self.grid.next_event_time();
-            self.grid.process_next_event(bodies, &mut self.changes);
-            self.absorb();
-            events += 1;
-            self.grid
-                .validate(bodies, at)
-                .unwrap_or_else(|e| panic!("after an event at {at}: {e}"));
-        }
-        events
-    }
-}
+type Driven = common::Driven<Grid>;
 
 /// A ball's box at `t`, as the structures make it (inflated by 1e-9 of the radius).
 fn ball_box(body: &Body, t: f64) -> (Vec3, Vec3) {
@@ -125,7 +83,7 @@ fn sparse_small_balls_and_a_few_large_ones_match_the_box_pairs_through_replans_a
             plan: FlightPlan::accelerated(p, v * if k >= 308 { 5.0 } else { 1.0 }, a),
         }));
     }
-    let mut d = Driven::new();
+    let mut d = Driven::new(Grid::new());
     let ids: Vec<u32> = (0..bodies.len() as u32).collect();
     d.grid.insert_many(&ids, &bodies, 0.0, &mut d.changes);
     d.absorb();
@@ -190,7 +148,7 @@ fn a_replan_that_starts_a_spin_moves_a_cuboid_to_a_larger_level() {
             plan: FlightPlan::linear(Vec3::new(5.0, 0.0, 0.0), Vec3::new(-1.0, 0.0, 0.0)),
         }),
     ];
-    let mut d = Driven::new();
+    let mut d = Driven::new(Grid::new());
     d.grid.insert_many(&[0, 1, 2], &bodies, 0.0, &mut d.changes);
     d.absorb();
     assert!(d.candidates().is_empty(), "{:?}", d.candidates());

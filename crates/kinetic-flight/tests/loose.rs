@@ -4,57 +4,15 @@
 //! bodies, re-plans that keep or leave their regions, sizes over two orders of magnitude,
 //! and removals.
 
-use kinetic_core::{Bodies, Body, CandidateStructure, FlightPlan, PairChange, Shape, Vec3};
+mod common;
+
+use kinetic_core::{Bodies, Body, CandidateStructure, FlightPlan, Shape, Vec3};
 use kinetic_flight::{ConvexShape, LooseGrid};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::collections::{BTreeMap, BTreeSet};
 
-/// The loose grid with the candidate set its changes describe.
-struct Driven {
-    grid: LooseGrid,
-    count: BTreeMap<(u32, u32), i32>,
-    changes: Vec<PairChange>,
-}
-
-impl Driven {
-    fn new() -> Driven {
-        Driven {
-            grid: LooseGrid::new(),
-            count: BTreeMap::new(),
-            changes: Vec::new(),
-        }
-    }
-
-    fn absorb(&mut self) {
-        for c in self.changes.drain(..) {
-            assert!(c.a < c.b, "pair {c:?} out of order");
-            let n = self.count.entry((c.a, c.b)).or_default();
-            *n += c.delta;
-            assert!(*n == 0 || *n == 1, "pair ({}, {}) counted {n}", c.a, c.b);
-        }
-        self.count.retain(|_, n| *n > 0);
-    }
-
-    fn candidates(&self) -> BTreeSet<(u32, u32)> {
-        self.count.keys().copied().collect()
-    }
-
-    /// Runs the grid's events up to `t`, auditing after each.
-    fn advance(&mut self, bodies: &Bodies, t: f64) -> usize {
-        let mut events = 0;
-        while self.grid.next_event_time() <= t {
-            let at = self.grid.next_event_time();
-            self.grid.process_next_event(bodies, &mut self.changes);
-            self.absorb();
-            events += 1;
-            self.grid
-                .validate(bodies, at)
-                .unwrap_or_else(|e| panic!("after an event at {at}: {e}"));
-        }
-        events
-    }
-}
+type Driven = common::Driven<LooseGrid>;
 
 /// Every pair whose boxes (the outer balls', or a resting cuboid's own) overlap at `t`.
 fn overlapping(bodies: &Bodies, t: f64) -> BTreeSet<(u32, u32)> {
@@ -128,7 +86,7 @@ fn a_crowd_with_fast_falling_and_resting_bodies_keeps_every_overlapping_pair() {
             .into_shape(),
         plan: FlightPlan::at_rest(Vec3::new(0.0, -10.5, 0.0)),
     }));
-    let mut d = Driven::new();
+    let mut d = Driven::new(LooseGrid::new());
     let ids: Vec<u32> = (0..bodies.len() as u32).collect();
     d.grid.insert_many(&ids, &bodies, 0.0, &mut d.changes);
     d.absorb();
@@ -196,7 +154,7 @@ fn a_body_at_rest_keeps_its_region_and_a_fast_one_moves_on() {
             plan: FlightPlan::linear(Vec3::new(-20.0, 0.0, 0.0), Vec3::new(4.0, 0.0, 0.0)),
         }),
     ];
-    let mut d = Driven::new();
+    let mut d = Driven::new(LooseGrid::new());
     d.grid.insert_many(&[0, 1], &bodies, 0.0, &mut d.changes);
     d.absorb();
     assert!(d.candidates().is_empty());

@@ -50,13 +50,15 @@
 //! without events (the narrow phase drops them itself). Same-body pairs and collision groups
 //! are filtered by rapier's narrow phase, as with the default broad phase.
 //!
-//! The structure is [`kinetic_flight::Grid`] unless the caller picks another
-//! ([`KineticBroadPhase::with_structure`]). The grid sorts the proxies into levels by size (a
-//! level's cells are as wide as its proxies, wider where they are sparse) and finds the
-//! sweep's pairs, the proxies whose boxes meet (a pair goes 1e-6 of the smaller box after
-//! they part), while looking only at proxies that share a cell. The sweep (Section 3.1: three global sorted lists) and guards (Section
-//! 3.2) hand over the same or fewer pairs but pay for every swap of the global orders: on the
-//! benchmark's rain and debris field the grid was 1.6x to 55x faster than either (README).
+//! The structure is picked from the first colliders' sizes unless the caller picks one
+//! ([`KineticBroadPhase::with_structure`]). Moving colliders of alike sizes (a rain, a pile)
+//! get [`kinetic_flight::LooseGrid`]: each proxy holds a fixed region its box stays in for a
+//! while on its plan, so a re-plan that stays inside costs one exit time, not a pass over its
+//! neighbours. A spread of sizes (a debris field) gets [`kinetic_flight::Grid`], which sorts
+//! the proxies into levels by size and finds the sweep's pairs (boxes that meet) among
+//! proxies that share a cell. The sweep (Section 3.1) and guards (Section 3.2) hand over the
+//! same or fewer pairs but pay for every swap of three global orders: on the benchmark's rain
+//! and debris field the grid was 1.6x to 55x faster than either (README).
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
