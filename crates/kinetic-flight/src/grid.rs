@@ -60,7 +60,7 @@ const MAX_WIDEN: Real = 64.0;
 const WIDEN_MIN_OBJECTS: usize = 32;
 
 /// A cell: its level and integer coordinates.
-type CellKey = (i32, i64, i64, i64);
+pub(crate) type CellKey = (i32, i64, i64, i64);
 
 /// A polynomial in local time `tau = t - now`: `[c0, c1, c2]`.
 pub(crate) type Local = [Real; 3];
@@ -148,10 +148,31 @@ struct Member {
 
 /// A cell's objects: those living at its level, and visitors from below.
 #[derive(Clone, Debug, Default)]
-struct Cell {
-    owners: Vec<u32>,
+pub(crate) struct Cell {
+    pub(crate) owners: Vec<u32>,
     /// A set: a coarse cell may hold thousands of small visitors.
-    visitors: FxHashSet<u32>,
+    pub(crate) visitors: FxHashSet<u32>,
+}
+
+/// Every listing of the cells `cells` as `(cell, object) -> whether an owner`; an error
+/// (prefixed `name`) for an empty cell kept or an object listed twice in one cell.
+pub(crate) fn cell_listings(
+    cells: &FxHashMap<CellKey, Cell>,
+    name: &str,
+) -> Result<FxHashMap<(CellKey, u32), bool>, String> {
+    let mut listed = FxHashMap::default();
+    for (key, cell) in cells {
+        if cell.owners.is_empty() && cell.visitors.is_empty() {
+            return Err(format!("{name}: empty cell {key:?} kept"));
+        }
+        let owners = cell.owners.iter().map(|&id| (id, true));
+        for (id, owner) in owners.chain(cell.visitors.iter().map(|&id| (id, false))) {
+            if listed.insert((*key, id), owner).is_some() {
+                return Err(format!("{name}: object {id} twice in cell {key:?}"));
+            }
+        }
+    }
+    Ok(listed)
 }
 
 /// A grid pair: objects `a < b` sharing `count` cells.
@@ -816,20 +837,7 @@ impl CandidateStructure for Grid {
         self.crossings_queue.validate()?;
         self.pairs_queue.validate()?;
         let at = |key: &ScalarKey| key.value_at(now);
-        let mut listed: FxHashMap<(CellKey, u32), bool> = FxHashMap::default();
-        for (key, cell) in &self.cells {
-            if cell.owners.is_empty() && cell.visitors.is_empty() {
-                return Err(format!("grid: empty cell {key:?} kept"));
-            }
-            let owners = cell.owners.iter().map(|&id| (id, true));
-            for (id, owner) in owners.chain(cell.visitors.iter().map(|&id| (id, false))) {
-                {
-                    if listed.insert((*key, id), owner).is_some() {
-                        return Err(format!("grid: object {id} twice in cell {key:?}"));
-                    }
-                }
-            }
-        }
+        let listed = cell_listings(&self.cells, "grid")?;
         let mut covered = 0usize;
         let mut keys = Vec::new();
         for (id, m) in self.members.iter().enumerate() {

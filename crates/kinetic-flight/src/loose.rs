@@ -22,19 +22,16 @@
 //! failing (a settling pile) and crowds that fall together, where a structure of exact box
 //! pairs pays for every box event and re-plan with certificates of all its neighbours.
 
-use crate::grid::{Local, crossing, levels_for};
+use crate::grid::{Cell, CellKey, Local, cell_listings, crossing, levels_for};
 use crate::sweep::box_ends;
 use kinetic_core::{Bodies, CandidateStructure, EventQueue, PairChange, Real, ScalarKey, Vec3};
-use rustc_hash::{FxHashMap, FxHashSet};
+use rustc_hash::FxHashMap;
 use std::collections::BTreeSet;
 
 /// A region stretches over the travel of this many box widths by default...
 const TRAVEL: Real = 2.0;
 /// ... and is wider than the swept box by this many box widths on every side.
 const MARGIN: Real = 0.25;
-
-/// A cell: its level and integer coordinates.
-type CellKey = (i32, i64, i64, i64);
 
 /// The cells a region covers at one level: per axis, the first and last index.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -65,14 +62,6 @@ struct Member {
     partners: Vec<u32>,
     /// When its box leaves its region on its plan.
     exit: Real,
-}
-
-/// A cell's regions: those living at its level, and visitors from below.
-#[derive(Clone, Debug, Default)]
-struct Cell {
-    owners: Vec<u32>,
-    /// A set: a coarse cell may hold thousands of small visitors.
-    visitors: FxHashSet<u32>,
 }
 
 /// The loose kinetic grid: candidate pairs are the objects whose regions overlap.
@@ -510,18 +499,7 @@ impl CandidateStructure for LooseGrid {
 
     fn validate(&self, bodies: &Bodies, now: Real) -> Result<(), String> {
         self.exits.validate()?;
-        let mut listed: FxHashMap<(CellKey, u32), bool> = FxHashMap::default();
-        for (key, cell) in &self.cells {
-            if cell.owners.is_empty() && cell.visitors.is_empty() {
-                return Err(format!("loose: empty cell {key:?} kept"));
-            }
-            let owners = cell.owners.iter().map(|&id| (id, true));
-            for (id, owner) in owners.chain(cell.visitors.iter().map(|&id| (id, false))) {
-                if listed.insert((*key, id), owner).is_some() {
-                    return Err(format!("loose: object {id} twice in cell {key:?}"));
-                }
-            }
-        }
+        let listed = cell_listings(&self.cells, "loose")?;
         let mut covered = 0;
         let mut live = Vec::new();
         for (id, m) in self.members.iter().enumerate() {
