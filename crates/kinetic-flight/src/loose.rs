@@ -12,52 +12,49 @@
 //! - Re-plans: an object whose new plan keeps its box inside its region keeps the region and
 //!   only has its exit time recomputed. A body jostled in a pile, re-planned every few steps,
 //!   so costs one root computation and a queue update, not a pass over its neighbours.
-//! - Cells: levels as in [`crate::Grid`], a power of two apart, sized by the regions. A
-//!   region lives at the lowest level whose cells are at least as wide as it, and visits every
-//!   occupied level above; it pairs with the owners of the cells it shares and, at its own
-//!   level, with the visitors too.
+//! - Cells: one uniform grid, its cells as wide as the first regions' median. A region is
+//!   filed in the cells it covers; one covering more than 8 on an axis or 64 in all (a
+//!   ground slab, a boulder among pebbles) is big, kept in a list that every region checks,
+//!   and checks every region itself when it is placed. Once more than 32 regions, and more
+//!   than one in 8, are big (cells sized by a lone first speck), the cells are sized afresh.
+//! - Horizon ([`LooseGrid::with_horizon`]): a region covers at most this much time of flight,
+//!   so a body drifting slowly holds a region close to its box.
 //!
 //! The candidates are a superset of the sweep's (boxes inside overlapping regions), so a
 //! caller that needs exact contacts certifies them itself. It suits bodies whose plans keep
 //! failing (a settling pile) and crowds that fall together, where a structure of exact box
 //! pairs pays for every box event and re-plan with certificates of all its neighbours.
 
-use crate::grid::{Cell, CellKey, Local, cell_listings, crossing, levels_for};
+use crate::grid::{Local, crossing};
 use crate::sweep::box_ends;
 use kinetic_core::{Bodies, CandidateStructure, EventQueue, PairChange, Real, ScalarKey, Vec3};
 use rustc_hash::FxHashMap;
-use std::collections::BTreeSet;
 
 /// A region stretches over the travel of this many box widths by default...
 const TRAVEL: Real = 2.0;
 /// ... and is wider than the swept box by this many box widths on every side.
 const MARGIN: Real = 0.25;
+/// A region is filed in the cells it covers when it covers at most this many on every axis
+/// and this many in all; a larger one is big, and kept in a list every region checks.
+const MAX_SPAN: i64 = 8;
+const MAX_CELLS: i64 = 64;
+/// The cells are sized afresh when more than this many regions are big, and they are more
+/// than one in [`BIG_SHARE`] of all.
+const MANY_BIG: usize = 32;
+const BIG_SHARE: usize = 8;
 
-/// The cells a region covers at one level: per axis, the first and last index.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Footprint {
-    level: i32,
-    cells: [[i64; 2]; 3],
-}
-
-impl Footprint {
-    fn keys(&self) -> impl Iterator<Item = CellKey> + '_ {
-        let [x, y, z] = self.cells;
-        (x[0]..=x[1]).flat_map(move |i| {
-            (y[0]..=y[1]).flat_map(move |j| (z[0]..=z[1]).map(move |k| (self.level, i, j, k)))
-        })
-    }
-}
+/// A cell's index on each axis.
+type CellKey = [i64; 3];
 
 /// An object in the loose grid.
 #[derive(Clone, Debug)]
 struct Member {
-    level: i32,
     /// Its region's corners.
     lo: Vec3,
     hi: Vec3,
-    /// Its own level first, then the occupied levels above it.
-    footprints: Vec<Footprint>,
+    /// The cells its region is filed in (their slots), none when it is big.
+    slots: Vec<u32>,
+    big: bool,
     /// The objects whose regions overlap its own.
     partners: Vec<u32>,
     /// When its box leaves its region on its plan.
@@ -69,14 +66,21 @@ struct Member {
 pub struct LooseGrid {
     travel: Real,
     margin: Real,
-    base: Option<Real>,
-    ratio: Real,
+    /// No region covers more than this much time of its object's flight.
+    horizon: Real,
+    /// The cells' side (set by the first objects' regions, their median width).
+    cell: Option<Real>,
     /// The median box width of the first objects: no margin is wider than `margin` of it (a
     /// ground slab's region is not metres taller than the slab).
     typical: Real,
-    occupied: BTreeSet<i32>,
     members: Vec<Option<Member>>,
-    cells: FxHashMap<CellKey, Cell>,
+    live: usize,
+    /// Cells by index, each a slot in `occupants`; `free` lists the slots of emptied cells.
+    cells: FxHashMap<CellKey, u32>,
+    occupants: Vec<Vec<u32>>,
+    free: Vec<u32>,
+    /// The big regions.
+    big: Vec<u32>,
     exits: EventQueue,
     /// Stamps for collecting an object's new partners without duplicates.
     mark: Vec<u64>,
@@ -84,6 +88,7 @@ pub struct LooseGrid {
     pairs: usize,
     anchors: u64,
     kept: u64,
+    refiles: u64,
     scratch: Vec<u32>,
 }
 
@@ -107,38 +112,38 @@ impl LooseGrid {
         LooseGrid {
             travel: travel.max(0.0),
             margin: margin.max(1e-6),
-            base: None,
-            ratio: 2.0,
+            horizon: Real::INFINITY,
+            cell: None,
             typical: Real::INFINITY,
-            occupied: BTreeSet::new(),
             members: Vec::new(),
+            live: 0,
             cells: FxHashMap::default(),
+            occupants: Vec::new(),
+            free: Vec::new(),
+            big: Vec::new(),
             exits: EventQueue::new(),
             mark: Vec::new(),
             epoch: 0,
             pairs: 0,
             anchors: 0,
             kept: 0,
+            refiles: 0,
             scratch: Vec::new(),
         }
+    }
+
+    /// The same loose grid whose regions cover at most `horizon` time units of flight (a slow
+    /// object's region then hugs its box instead of stretching over its whole travel).
+    pub fn with_horizon(mut self, horizon: Real) -> LooseGrid {
+        if horizon > 0.0 {
+            self.horizon = horizon;
+        }
+        self
     }
 
     /// Number of candidate pairs (overlapping regions).
     pub fn pairs(&self) -> usize {
         self.pairs
-    }
-
-    fn cell_size(&self, level: i32) -> Real {
-        self.base.unwrap_or(1.0) * self.ratio.powi(level)
-    }
-
-    fn level_for(&self, width: Real) -> i32 {
-        let base = self.base.unwrap_or(1.0);
-        if width > 0.0 && width.is_finite() {
-            (((width / base).log2() / self.ratio.log2()).ceil() as i32).clamp(-200, 200)
-        } else {
-            0
-        }
     }
 
     fn present(&self, id: u32) -> bool {
@@ -175,7 +180,8 @@ impl LooseGrid {
             d / v
         } else {
             0.0
-        };
+        }
+        .min(self.horizon);
         let keys = Self::box_keys(bodies, id, now);
         // A margin of a few float spacings at least, so that a point object leaves after now.
         let scale = plan.position_at(now).abs().max_element() + w;
@@ -219,61 +225,123 @@ impl LooseGrid {
         t
     }
 
-    /// The footprint of the region `lo..hi` at `level`.
-    fn footprint(&self, lo: Vec3, hi: Vec3, level: i32) -> Footprint {
-        let s = self.cell_size(level);
-        Footprint {
-            level,
-            cells: std::array::from_fn(|k| {
-                let a = (lo[k] / s).floor() as i64;
-                [a, ((hi[k] / s).floor() as i64).max(a)]
-            }),
+    /// The cells the region `lo..hi` covers, per axis the first and last index; `None` when
+    /// it is big (or there are no cells yet).
+    fn footprint(&self, lo: Vec3, hi: Vec3) -> Option<[[i64; 2]; 3]> {
+        let s = self.cell?;
+        let mut f = [[0i64; 2]; 3];
+        let mut all = 1;
+        for k in 0..3 {
+            // Saturating casts: a region out at 1e300 is big, not wrapped.
+            let a = (lo[k] / s).floor() as i64;
+            let b = ((hi[k] / s).floor() as i64).max(a);
+            let span = b.saturating_sub(a).saturating_add(1);
+            if !(1..=MAX_SPAN).contains(&span) {
+                return None;
+            }
+            all *= span;
+            f[k] = [a, b];
+        }
+        (all <= MAX_CELLS).then_some(f)
+    }
+
+    /// Files member `id`'s region: in the cells it covers, or in the big list. Returns the
+    /// slots.
+    fn file(&mut self, id: u32, lo: Vec3, hi: Vec3) -> (Vec<u32>, bool) {
+        let Some(f) = self.footprint(lo, hi) else {
+            self.big.push(id);
+            return (Vec::new(), true);
+        };
+        let mut slots = Vec::with_capacity(8);
+        for i in f[0][0]..=f[0][1] {
+            for j in f[1][0]..=f[1][1] {
+                for k in f[2][0]..=f[2][1] {
+                    let slot = match self.cells.get(&[i, j, k]) {
+                        Some(&slot) => slot,
+                        None => {
+                            let slot = self.free.pop().unwrap_or_else(|| {
+                                self.occupants.push(Vec::new());
+                                (self.occupants.len() - 1) as u32
+                            });
+                            self.cells.insert([i, j, k], slot);
+                            slot
+                        }
+                    };
+                    self.occupants[slot as usize].push(id);
+                    slots.push(slot);
+                }
+            }
+        }
+        (slots, false)
+    }
+
+    /// Takes member `id` out of its cells (or the big list); emptied cells are forgotten.
+    fn unfile(&mut self, id: u32) {
+        let m = self.members[id as usize].as_mut().expect("a member");
+        let slots = std::mem::take(&mut m.slots);
+        let (lo, hi) = (m.lo, m.hi);
+        if m.big {
+            if let Some(i) = self.big.iter().position(|&x| x == id) {
+                self.big.swap_remove(i);
+            }
+            return;
+        }
+        let mut emptied = false;
+        for &slot in &slots {
+            let list = &mut self.occupants[slot as usize];
+            if let Some(i) = list.iter().position(|&x| x == id) {
+                list.swap_remove(i);
+            }
+            emptied |= list.is_empty();
+        }
+        if emptied {
+            let Some(f) = self.footprint(lo, hi) else {
+                return;
+            };
+            for i in f[0][0]..=f[0][1] {
+                for j in f[1][0]..=f[1][1] {
+                    for k in f[2][0]..=f[2][1] {
+                        if let Some(&slot) = self.cells.get(&[i, j, k])
+                            && self.occupants[slot as usize].is_empty()
+                        {
+                            self.cells.remove(&[i, j, k]);
+                            self.free.push(slot);
+                        }
+                    }
+                }
+            }
         }
     }
 
-    /// Makes `level` occupied: every member below it becomes a visitor there (no owners yet,
-    /// so no new pairs).
-    fn occupy(&mut self, level: i32) {
-        if !self.occupied.insert(level) {
+    /// Sizes the cells afresh (the median width of the regions now) and files every region
+    /// again. Partners stay: they are the overlapping regions, whatever the cells.
+    fn refile(&mut self) {
+        let mut w: Vec<Real> = self
+            .members
+            .iter()
+            .flatten()
+            .map(|m| (m.hi - m.lo).max_element())
+            .filter(|w| *w > 0.0 && w.is_finite())
+            .collect();
+        if w.is_empty() {
             return;
         }
+        let mid = w.len() / 2;
+        self.cell = Some(*w.select_nth_unstable_by(mid, Real::total_cmp).1);
+        self.refiles += 1;
+        self.cells.clear();
+        self.occupants.clear();
+        self.free.clear();
+        self.big.clear();
         for id in 0..self.members.len() as u32 {
             let Some(m) = self.members[id as usize].as_ref() else {
                 continue;
             };
-            if m.level >= level || m.footprints.is_empty() {
-                continue;
-            }
-            let f = self.footprint(m.lo, m.hi, level);
-            for key in f.keys() {
-                self.cells.entry(key).or_default().visitors.insert(id);
-            }
+            let (lo, hi) = (m.lo, m.hi);
+            let (slots, big) = self.file(id, lo, hi);
             let m = self.members[id as usize].as_mut().expect("a member");
-            let at = m.footprints.partition_point(|g| g.level < level);
-            m.footprints.insert(at, f);
-        }
-    }
-
-    /// Takes member `id` out of the cells of its footprints.
-    fn leave_cells(&mut self, id: u32) {
-        let m = self.members[id as usize].as_mut().expect("a member");
-        let (level, footprints) = (m.level, std::mem::take(&mut m.footprints));
-        for f in &footprints {
-            for key in f.keys() {
-                let Some(cell) = self.cells.get_mut(&key) else {
-                    continue;
-                };
-                if f.level == level {
-                    if let Some(i) = cell.owners.iter().position(|&x| x == id) {
-                        cell.owners.swap_remove(i);
-                    }
-                } else {
-                    cell.visitors.remove(&id);
-                }
-                if cell.owners.is_empty() && cell.visitors.is_empty() {
-                    self.cells.remove(&key);
-                }
-            }
+            m.slots = slots;
+            m.big = big;
         }
     }
 
@@ -282,49 +350,50 @@ impl LooseGrid {
     fn anchor(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>) {
         self.anchors += 1;
         let (lo, hi) = self.region(bodies, id, now);
-        let level = self.level_for((hi - lo).max_element());
-        if self.present(id) {
-            self.leave_cells(id);
-        }
-        // Out of the members while its level fills, or it would visit there itself.
-        let old = self.members[id as usize]
-            .take()
-            .map_or(Vec::new(), |m| m.partners);
-        self.occupy(level);
-        let levels: Vec<i32> = self.occupied.range(level..).copied().collect();
-        let footprints: Vec<Footprint> =
-            levels.iter().map(|&l| self.footprint(lo, hi, l)).collect();
-        // Enter the cells, collecting the regions met there.
+        let mut old = if self.present(id) {
+            self.unfile(id);
+            self.members[id as usize].take().expect("a member").partners
+        } else {
+            self.live += 1;
+            Vec::new()
+        };
         self.epoch += 1;
         let epoch = self.epoch;
         if self.mark.len() < self.members.len() {
             self.mark.resize(self.members.len(), 0);
         }
+        self.mark[id as usize] = epoch;
         let mut found = std::mem::take(&mut self.scratch);
         found.clear();
-        for f in &footprints {
-            let owner = f.level == level;
-            for key in f.keys() {
-                let cell = self.cells.entry(key).or_default();
-                let visitors = owner.then_some(&cell.visitors);
-                for &p in cell.owners.iter().chain(visitors.into_iter().flatten()) {
-                    if self.mark[p as usize] != epoch {
-                        self.mark[p as usize] = epoch;
-                        let q = self.members[p as usize].as_ref().expect("a member");
-                        if q.lo.cmple(hi).all() && lo.cmple(q.hi).all() {
-                            found.push(p);
-                        }
-                    }
+        let (slots, big) = self.file(id, lo, hi);
+        let (members, mark) = (&self.members, &mut self.mark);
+        let mut meet = |p: u32, found: &mut Vec<u32>| {
+            if mark[p as usize] != epoch {
+                mark[p as usize] = epoch;
+                let q = members[p as usize].as_ref().expect("a member");
+                if q.lo.cmple(hi).all() && lo.cmple(q.hi).all() {
+                    found.push(p);
                 }
-                if owner {
-                    cell.owners.push(id);
-                } else {
-                    cell.visitors.insert(id);
+            }
+        };
+        if big {
+            // A big region meets any other: it looks at them all.
+            for (p, q) in self.members.iter().enumerate() {
+                if q.is_some() {
+                    meet(p as u32, &mut found);
                 }
+            }
+        } else {
+            for &slot in &slots {
+                for &p in &self.occupants[slot as usize] {
+                    meet(p, &mut found);
+                }
+            }
+            for &p in &self.big {
+                meet(p, &mut found);
             }
         }
         found.sort_unstable();
-        let mut old = old;
         old.sort_unstable();
         // Pairs that end, then pairs that begin.
         for &p in &old {
@@ -347,15 +416,18 @@ impl LooseGrid {
         }
         let exit = Self::exit_time(bodies, id, lo, hi, now);
         self.members[id as usize] = Some(Member {
-            level,
             lo,
             hi,
-            footprints,
-            partners: found.clone(),
+            slots,
+            big,
+            partners: found,
             exit,
         });
-        self.scratch = found;
+        self.scratch = old;
         self.schedule(id, exit);
+        if self.big.len() > MANY_BIG && self.big.len() * BIG_SHARE > self.live {
+            self.refile();
+        }
     }
 
     fn schedule(&mut self, id: u32, exit: Real) {
@@ -391,7 +463,7 @@ impl CandidateStructure for LooseGrid {
         now: Real,
         changes: &mut Vec<PairChange>,
     ) {
-        if self.base.is_none() {
+        if self.cell.is_none() {
             let mut w: Vec<Real> = ids
                 .iter()
                 .map(|&id| {
@@ -404,14 +476,18 @@ impl CandidateStructure for LooseGrid {
                 let mid = w.len() / 2;
                 self.typical = *w.select_nth_unstable_by(mid, Real::total_cmp).1;
             }
-            // Levels from the first regions' widths, as the grid's from its boxes'.
-            let w = ids.iter().map(|&id| {
-                let (lo, hi) = self.region(bodies, id, now);
-                (hi - lo).max_element()
-            });
-            if let Some((base, ratio)) = levels_for(w) {
-                self.base = Some(base);
-                self.ratio = ratio;
+            // Cells as wide as the first regions' median.
+            let mut w: Vec<Real> = ids
+                .iter()
+                .map(|&id| {
+                    let (lo, hi) = self.region(bodies, id, now);
+                    (hi - lo).max_element()
+                })
+                .filter(|w| *w > 0.0 && w.is_finite())
+                .collect();
+            if !w.is_empty() {
+                let mid = w.len() / 2;
+                self.cell = Some(*w.select_nth_unstable_by(mid, Real::total_cmp).1);
             }
         }
         if let Some(&top) = ids.iter().max()
@@ -430,7 +506,8 @@ impl CandidateStructure for LooseGrid {
         if !self.present(id) {
             return;
         }
-        self.leave_cells(id);
+        self.unfile(id);
+        self.live -= 1;
         let m = self.members[id as usize].take().expect("a member");
         for p in m.partners {
             let q = self.members[p as usize].as_mut().expect("a member");
@@ -482,8 +559,9 @@ impl CandidateStructure for LooseGrid {
         vec![
             ("region_pairs", self.pairs as f64),
             ("cells", self.cells.len() as f64),
-            ("levels", self.occupied.len() as f64),
-            ("level_ratio", self.ratio),
+            ("big", self.big.len() as f64),
+            ("cell_size", self.cell.unwrap_or(0.0)),
+            ("refiles", self.refiles as f64),
             ("anchors", self.anchors as f64),
             ("regions_kept", self.kept as f64),
         ]
@@ -499,7 +577,6 @@ impl CandidateStructure for LooseGrid {
 
     fn validate(&self, bodies: &Bodies, now: Real) -> Result<(), String> {
         self.exits.validate()?;
-        let listed = cell_listings(&self.cells, "loose")?;
         let mut covered = 0;
         let mut live = Vec::new();
         for (id, m) in self.members.iter().enumerate() {
@@ -531,32 +608,70 @@ impl CandidateStructure for LooseGrid {
                     m.exit
                 ));
             }
-            if m.level != self.level_for((m.hi - m.lo).max_element()) {
-                return Err(format!("loose: object {id} at the wrong level {}", m.level));
-            }
-            let levels: Vec<i32> = self.occupied.range(m.level..).copied().collect();
-            let have: Vec<i32> = m.footprints.iter().map(|f| f.level).collect();
-            if levels != have {
-                return Err(format!(
-                    "loose: object {id} visits levels {have:?}, not {levels:?}"
-                ));
-            }
-            for f in &m.footprints {
-                if *f != self.footprint(m.lo, m.hi, f.level) {
-                    return Err(format!("loose: object {id} has a stale footprint {f:?}"));
-                }
-                for key in f.keys() {
-                    if listed.get(&(key, id)) != Some(&(f.level == m.level)) {
-                        return Err(format!("loose: object {id} not listed right in {key:?}"));
+            match self.footprint(m.lo, m.hi) {
+                None => {
+                    if !m.big || !m.slots.is_empty() {
+                        return Err(format!("loose: object {id} is big but filed in cells"));
                     }
-                    covered += 1;
+                    if self.big.iter().filter(|&&x| x == id).count() != 1 {
+                        return Err(format!("loose: big object {id} not listed once"));
+                    }
+                }
+                Some(f) => {
+                    let mut want = Vec::new();
+                    for i in f[0][0]..=f[0][1] {
+                        for j in f[1][0]..=f[1][1] {
+                            for k in f[2][0]..=f[2][1] {
+                                let Some(&slot) = self.cells.get(&[i, j, k]) else {
+                                    return Err(format!("loose: object {id}: cell missing"));
+                                };
+                                want.push(slot);
+                            }
+                        }
+                    }
+                    if m.big || m.slots != want {
+                        return Err(format!("loose: object {id} filed in the wrong cells"));
+                    }
+                    for &slot in &m.slots {
+                        let n = self.occupants[slot as usize]
+                            .iter()
+                            .filter(|&&x| x == id)
+                            .count();
+                        if n != 1 {
+                            return Err(format!("loose: object {id} listed {n} times in a cell"));
+                        }
+                    }
+                    covered += m.slots.len();
                 }
             }
         }
-        if covered != listed.len() {
+        if self.big.len() != self.members.iter().flatten().filter(|m| m.big).count() {
+            return Err(format!("loose: {} big objects listed", self.big.len()));
+        }
+        if live.len() != self.live {
             return Err(format!(
-                "loose: {} listings for {covered} footprint cells",
-                listed.len()
+                "loose: {} objects counted, {} live",
+                self.live,
+                live.len()
+            ));
+        }
+        // Every listing is a member's, and every cell kept holds some.
+        let listed: usize = self.occupants.iter().map(Vec::len).sum();
+        let mut slots: Vec<u32> = self.cells.values().copied().collect();
+        slots.sort_unstable();
+        slots.dedup();
+        if slots.len() != self.cells.len()
+            || slots.iter().any(|&s| self.occupants[s as usize].is_empty())
+            || self
+                .free
+                .iter()
+                .any(|&s| !self.occupants[s as usize].is_empty())
+        {
+            return Err("loose: a cell is shared, empty but kept, or freed but not empty".into());
+        }
+        if covered != listed {
+            return Err(format!(
+                "loose: {listed} listings for {covered} filed cells"
             ));
         }
         // Partners: exactly the overlapping regions, both ways.

@@ -21,10 +21,22 @@ struct PairState {
     reported: bool,
     /// When its count last fell to 0.
     dropped_at: Real,
-    /// The gate's last answer: the proxies cannot meet before this time (minus infinity:
-    /// they may meet now), while their plans are still those of versions `plans`.
-    apart_until: Real,
+    /// When to ask the gate again while the plans are still those of versions `plans`: for
+    /// a pair not reported, a time before which its proxies cannot meet (asked again once a
+    /// window ends past it); for a reported one, a time before which they surely still
+    /// overlap (asked again once a window starts at or past it).
+    wake: Real,
     plans: (u32, u32),
+}
+
+/// The gate's answer for a pair: whether the proxies can meet within the window, and when
+/// to ask again with the same plans: for a pair that cannot meet, a time before which it
+/// cannot (asked again once a window ends past it); for one that can, a time before which
+/// its proxies surely still overlap (asked again once a window starts past it).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Gate {
+    pub(crate) meet: bool,
+    pub(crate) wake: Real,
 }
 
 /// What the pair book asks rapier to do.
@@ -55,7 +67,7 @@ impl PairBook {
                 count: 0,
                 reported: false,
                 dropped_at: Real::NEG_INFINITY,
-                apart_until: Real::NEG_INFINITY,
+                wake: Real::NEG_INFINITY,
                 plans: (u32::MAX, u32::MAX),
             });
             let before = e.count;
@@ -95,15 +107,14 @@ impl PairBook {
 
     /// Emits the events of one call whose window runs from the positions' time `t_pos` to
     /// `t_end`: a pair that dropped out before `t_pos` and is still out is deleted; every
-    /// other pair is added or deleted as the gate says. `apart(a, b)` is the time before
-    /// which the two proxies cannot meet (at least `t_end` when they cannot meet within the
-    /// window, minus infinity when they can); it is asked again only once the window's end
-    /// passes its last answer or a proxy's plan changed (`plan(i)`, its plan's version).
+    /// other pair is added or deleted as the gate (`gate(a, b)`) says. The gate is asked
+    /// again only once its last answer runs out ([`Gate`]) or a proxy's plan changed
+    /// (`plan(i)`, its plan's version).
     pub(crate) fn emit(
         &mut self,
         t_pos: Real,
         t_end: Real,
-        apart: impl Fn(u32, u32) -> Real,
+        gate: impl Fn(u32, u32) -> Gate,
         plan: impl Fn(u32) -> u32,
         out: &mut Vec<PairOut>,
     ) {
@@ -117,14 +128,20 @@ impl PairBook {
                 return false;
             }
             let plans = (plan(a), plan(b));
-            if plans != e.plans || e.apart_until < t_end {
-                e.apart_until = apart(a, b);
-                e.plans = plans;
+            let due = if e.reported {
+                e.wake <= t_pos
+            } else {
+                e.wake < t_end
+            };
+            if plans == e.plans && !due {
+                return true;
             }
-            let want = e.apart_until < t_end;
-            if want != e.reported {
-                e.reported = want;
-                if want {
+            let g = gate(a, b);
+            e.plans = plans;
+            e.wake = g.wake;
+            if g.meet != e.reported {
+                e.reported = g.meet;
+                if g.meet {
                     reported += 1;
                     out.push(PairOut::Add(a, b));
                 } else {
@@ -192,6 +209,49 @@ impl PairBook {
             .get(&(a.min(b), a.max(b)))
             .is_some_and(|e| e.reported)
     }
+}
+
+/// The gate for proxies `a` and `b` over the window from `t0` to `t1` ([`Gate`]).
+pub(crate) fn proxies_gate(a: &Body, b: &Body, t0: Real, t1: Real) -> Gate {
+    if proxies_meet(a, b, t0, t1) {
+        Gate {
+            meet: true,
+            wake: proxies_overlap_until(a, b, t0),
+        }
+    } else {
+        Gate {
+            meet: false,
+            wake: proxies_apart_until(a, b, t0, t1),
+        }
+    }
+}
+
+/// A time before which proxies `a` and `b`, overlapping at `t0`, surely still overlap
+/// (`t0` when they do not overlap at `t0`, or only by rounding): the depth of the overlap
+/// less the most the relative velocity and acceleration can open. Balls by their centres'
+/// distance, other shapes by their boxes'.
+pub(crate) fn proxies_overlap_until(a: &Body, b: &Body, t0: Real) -> Real {
+    let (pa, pb) = (a.plan.position_at(t0), b.plan.position_at(t0));
+    let depth = match (&a.shape, &b.shape) {
+        (Shape::Ball { radius: ra }, Shape::Ball { radius: rb }) => ra + rb - (pa - pb).length(),
+        _ => {
+            let ((alo, ahi), (blo, bhi)) = (swept_box(a, t0, t0), swept_box(b, t0, t0));
+            (ahi - blo).min(bhi - alo).min_element()
+        }
+    };
+    let reach = a.shape.outer_radius() + b.shape.outer_radius();
+    let tol = 1e-9 * (reach + pa.abs().max_element() + pb.abs().max_element());
+    let depth = depth - 2.0 * tol;
+    if depth.is_nan() || depth <= 0.0 {
+        return t0;
+    }
+    let d1 = (a.plan.velocity_at(t0) - b.plan.velocity_at(t0)).length();
+    let d2 = ((a.plan.acceleration - b.plan.acceleration) * 0.5).length();
+    let tau = 2.0 * depth / (d1 + (d1 * d1 + 4.0 * d2 * depth).sqrt());
+    if tau.is_nan() {
+        return t0;
+    }
+    t0 + tau * (1.0 - 1e-9)
 }
 
 /// The time before which proxies `a` and `b`, on their plans, cannot meet, looking from `t0`:
@@ -294,14 +354,20 @@ mod tests {
         true
     }
 
-    /// A gate for which every pair can meet.
-    fn meets(_: u32, _: u32) -> Real {
-        Real::NEG_INFINITY
+    /// A gate for which every pair can meet (asked again at every call).
+    fn meets(_: u32, _: u32) -> Gate {
+        Gate {
+            meet: true,
+            wake: Real::NEG_INFINITY,
+        }
     }
 
     /// A gate for which every pair stays apart until `t` (the window's end).
-    fn apart(t: Real) -> impl Fn(u32, u32) -> Real {
-        move |_, _| t
+    fn apart(t: Real) -> impl Fn(u32, u32) -> Gate {
+        move |_, _| Gate {
+            meet: false,
+            wake: t,
+        }
     }
 
     fn same_plans(_: u32) -> u32 {
@@ -341,7 +407,10 @@ mod tests {
         // Apart until 3.5 on plans of version 0.
         let gate = |_, _| {
             asked.set(asked.get() + 1);
-            3.5
+            Gate {
+                meet: false,
+                wake: 3.5,
+            }
         };
         let version = Cell::new(0);
         let plan = |_| version.get();
@@ -353,16 +422,25 @@ mod tests {
         book.emit(2.5, 3.5, gate, plan, &mut out);
         assert_eq!(asked.get(), 2, "a new plan asks again");
         assert!(out.is_empty());
-        // A window past 3.5 asks again: the proxies meet now, and are asked at every call.
+        // A window past 3.5 asks again: the proxies meet now, and surely overlap until 4.2:
+        // not asked again by windows starting before 4.2.
         let meet = |_, _| {
             asked.set(asked.get() + 1);
-            Real::NEG_INFINITY
+            Gate {
+                meet: true,
+                wake: 4.2,
+            }
         };
         book.emit(3.0, 4.0, meet, plan, &mut out);
         book.emit(3.1, 4.1, meet, plan, &mut out);
-        assert_eq!(asked.get(), 4);
+        book.emit(4.1, 5.1, meet, plan, &mut out);
+        assert_eq!(asked.get(), 3);
         assert_eq!(out, vec![PairOut::Add(0, 1)]);
-        book.emit(4.0, 5.0, |_, _| Real::INFINITY, plan, &mut out);
+        let never = |_, _| Gate {
+            meet: false,
+            wake: Real::INFINITY,
+        };
+        book.emit(4.2, 5.2, never, plan, &mut out);
         assert_eq!(out, vec![PairOut::Add(0, 1), PairOut::Delete(0, 1)]);
     }
 
@@ -391,6 +469,47 @@ mod tests {
         let until = proxies_apart_until(&a, &b, 0.0, 1.0);
         assert!((until - 3.0).abs() < 1e-6, "{until}");
         assert_eq!(proxies_apart_until(&a, &b, 0.0, 3.5), Real::NEG_INFINITY);
+    }
+
+    #[test]
+    fn overlapping_proxies_surely_overlap_until_their_depth_can_open() {
+        // Balls of radius 1, 1.5 apart (depth 0.5), parting at 1: still overlapping until
+        // 0.5, and not for sure any later.
+        let (a, b) = (ball_at(1.0, 0.0, 0.0), ball_at(1.0, 1.5, 1.0));
+        let until = proxies_overlap_until(&a, &b, 0.0);
+        assert!((until - 0.5).abs() < 1e-6, "{until}");
+        assert_eq!(
+            proxies_gate(&a, &b, 0.0, 0.1),
+            Gate {
+                meet: true,
+                wake: until
+            }
+        );
+        // Not overlapping now (only meeting later in the window): asked again next call.
+        let c = ball_at(1.0, 2.5, -1.0);
+        assert_eq!(proxies_overlap_until(&a, &c, 0.0), 0.0);
+        assert!(proxies_gate(&a, &c, 0.0, 1.0).meet);
+        // At rest together: overlapping for ever.
+        let d = ball_at(1.0, 1.5, 0.0);
+        assert_eq!(proxies_overlap_until(&a, &d, 0.0), Real::INFINITY);
+        // A ball resting 0.2 deep in a slab, falling at 2 from rest: the boxes' depth 0.2
+        // opens no sooner than sqrt(0.2) (acceleration 2 is 1 t^2).
+        let slab = Body {
+            shape: kinetic_flight::ConvexShape::cuboid(Vec3::new(10.0, 0.5, 10.0))
+                .unwrap()
+                .into_shape(),
+            plan: FlightPlan::at_rest(Vec3::new(0.0, -0.5, 0.0)),
+        };
+        let rising = ball(
+            0.5,
+            FlightPlan::accelerated(
+                Vec3::new(0.0, 0.3, 0.0),
+                Vec3::ZERO,
+                Vec3::new(0.0, 2.0, 0.0),
+            ),
+        );
+        let until = proxies_overlap_until(&rising, &slab, 0.0);
+        assert!((until - 0.2f64.sqrt()).abs() < 1e-6, "{until}");
     }
 
     fn ball_at(radius: Real, x: Real, v: Real) -> Body {
