@@ -253,24 +253,20 @@ impl LooseGrid {
             return (Vec::new(), true);
         };
         let mut slots = Vec::with_capacity(8);
-        for i in f[0][0]..=f[0][1] {
-            for j in f[1][0]..=f[1][1] {
-                for k in f[2][0]..=f[2][1] {
-                    let slot = match self.cells.get(&[i, j, k]) {
-                        Some(&slot) => slot,
-                        None => {
-                            let slot = self.free.pop().unwrap_or_else(|| {
-                                self.occupants.push(Vec::new());
-                                (self.occupants.len() - 1) as u32
-                            });
-                            self.cells.insert([i, j, k], slot);
-                            slot
-                        }
-                    };
-                    self.occupants[slot as usize].push(id);
-                    slots.push(slot);
+        for key in cell_keys(f) {
+            let slot = match self.cells.get(&key) {
+                Some(&slot) => slot,
+                None => {
+                    let slot = self.free.pop().unwrap_or_else(|| {
+                        self.occupants.push(Vec::new());
+                        (self.occupants.len() - 1) as u32
+                    });
+                    self.cells.insert(key, slot);
+                    slot
                 }
-            }
+            };
+            self.occupants[slot as usize].push(id);
+            slots.push(slot);
         }
         (slots, false)
     }
@@ -298,16 +294,12 @@ impl LooseGrid {
             let Some(f) = self.footprint(lo, hi) else {
                 return;
             };
-            for i in f[0][0]..=f[0][1] {
-                for j in f[1][0]..=f[1][1] {
-                    for k in f[2][0]..=f[2][1] {
-                        if let Some(&slot) = self.cells.get(&[i, j, k])
-                            && self.occupants[slot as usize].is_empty()
-                        {
-                            self.cells.remove(&[i, j, k]);
-                            self.free.push(slot);
-                        }
-                    }
+            for key in cell_keys(f) {
+                if let Some(&slot) = self.cells.get(&key)
+                    && self.occupants[slot as usize].is_empty()
+                {
+                    self.cells.remove(&key);
+                    self.free.push(slot);
                 }
             }
         }
@@ -316,18 +308,16 @@ impl LooseGrid {
     /// Sizes the cells afresh (the median width of the regions now) and files every region
     /// again. Partners stay: they are the overlapping regions, whatever the cells.
     fn refile(&mut self) {
-        let mut w: Vec<Real> = self
-            .members
-            .iter()
-            .flatten()
-            .map(|m| (m.hi - m.lo).max_element())
-            .filter(|w| *w > 0.0 && w.is_finite())
-            .collect();
-        if w.is_empty() {
+        let w = median(
+            self.members
+                .iter()
+                .flatten()
+                .map(|m| (m.hi - m.lo).max_element()),
+        );
+        let Some(w) = w else {
             return;
-        }
-        let mid = w.len() / 2;
-        self.cell = Some(*w.select_nth_unstable_by(mid, Real::total_cmp).1);
+        };
+        self.cell = Some(w);
         self.refiles += 1;
         self.cells.clear();
         self.occupants.clear();
@@ -439,6 +429,20 @@ impl LooseGrid {
     }
 }
 
+/// The median of the positive finite widths `w`, if any.
+fn median(w: impl Iterator<Item = Real>) -> Option<Real> {
+    let mut w: Vec<Real> = w.filter(|w| *w > 0.0 && w.is_finite()).collect();
+    let mid = w.len() / 2;
+    (!w.is_empty()).then(|| *w.select_nth_unstable_by(mid, Real::total_cmp).1)
+}
+
+/// The cells of footprint `f`, in order.
+fn cell_keys(f: [[i64; 2]; 3]) -> impl Iterator<Item = CellKey> {
+    (f[0][0]..=f[0][1]).flat_map(move |i| {
+        (f[1][0]..=f[1][1]).flat_map(move |j| (f[2][0]..=f[2][1]).map(move |k| [i, j, k]))
+    })
+}
+
 fn pair_change(x: u32, y: u32, delta: i32) -> PairChange {
     PairChange {
         a: x.min(y),
@@ -464,31 +468,18 @@ impl CandidateStructure for LooseGrid {
         changes: &mut Vec<PairChange>,
     ) {
         if self.cell.is_none() {
-            let mut w: Vec<Real> = ids
-                .iter()
-                .map(|&id| {
-                    let (lo, hi) = box_ends(bodies, id);
-                    (hi - lo).max_element()
-                })
-                .filter(|w| w.is_finite())
-                .collect();
-            if !w.is_empty() {
-                let mid = w.len() / 2;
-                self.typical = *w.select_nth_unstable_by(mid, Real::total_cmp).1;
+            let boxes = ids.iter().map(|&id| {
+                let (lo, hi) = box_ends(bodies, id);
+                (hi - lo).max_element()
+            });
+            if let Some(w) = median(boxes) {
+                self.typical = w;
             }
             // Cells as wide as the first regions' median.
-            let mut w: Vec<Real> = ids
-                .iter()
-                .map(|&id| {
-                    let (lo, hi) = self.region(bodies, id, now);
-                    (hi - lo).max_element()
-                })
-                .filter(|w| *w > 0.0 && w.is_finite())
-                .collect();
-            if !w.is_empty() {
-                let mid = w.len() / 2;
-                self.cell = Some(*w.select_nth_unstable_by(mid, Real::total_cmp).1);
-            }
+            self.cell = median(ids.iter().map(|&id| {
+                let (lo, hi) = self.region(bodies, id, now);
+                (hi - lo).max_element()
+            }));
         }
         if let Some(&top) = ids.iter().max()
             && self.members.len() <= top as usize
@@ -619,15 +610,11 @@ impl CandidateStructure for LooseGrid {
                 }
                 Some(f) => {
                     let mut want = Vec::new();
-                    for i in f[0][0]..=f[0][1] {
-                        for j in f[1][0]..=f[1][1] {
-                            for k in f[2][0]..=f[2][1] {
-                                let Some(&slot) = self.cells.get(&[i, j, k]) else {
-                                    return Err(format!("loose: object {id}: cell missing"));
-                                };
-                                want.push(slot);
-                            }
-                        }
+                    for key in cell_keys(f) {
+                        let Some(&slot) = self.cells.get(&key) else {
+                            return Err(format!("loose: object {id}: cell {key:?} missing"));
+                        };
+                        want.push(slot);
                     }
                     if m.big || m.slots != want {
                         return Err(format!("loose: object {id} filed in the wrong cells"));
