@@ -60,7 +60,7 @@ const MAX_WIDEN: Real = 64.0;
 const WIDEN_MIN_OBJECTS: usize = 32;
 
 /// A cell: its level and integer coordinates.
-pub(crate) type CellKey = (i32, i64, i64, i64);
+type CellKey = (i32, i64, i64, i64);
 
 /// A polynomial in local time `tau = t - now`: `[c0, c1, c2]`.
 pub(crate) type Local = [Real; 3];
@@ -148,15 +148,15 @@ struct Member {
 
 /// A cell's objects: those living at its level, and visitors from below.
 #[derive(Clone, Debug, Default)]
-pub(crate) struct Cell {
-    pub(crate) owners: Vec<u32>,
+struct Cell {
+    owners: Vec<u32>,
     /// A set: a coarse cell may hold thousands of small visitors.
-    pub(crate) visitors: FxHashSet<u32>,
+    visitors: FxHashSet<u32>,
 }
 
 /// Every listing of the cells `cells` as `(cell, object) -> whether an owner`; an error
 /// (prefixed `name`) for an empty cell kept or an object listed twice in one cell.
-pub(crate) fn cell_listings(
+fn cell_listings(
     cells: &FxHashMap<CellKey, Cell>,
     name: &str,
 ) -> Result<FxHashMap<(CellKey, u32), bool>, String> {

@@ -388,12 +388,7 @@ impl LooseGrid {
         // Pairs that end, then pairs that begin.
         for &p in &old {
             if found.binary_search(&p).is_err() {
-                let q = self.members[p as usize].as_mut().expect("a member");
-                if let Some(i) = q.partners.iter().position(|&x| x == id) {
-                    q.partners.swap_remove(i);
-                }
-                self.pairs -= 1;
-                changes.push(pair_change(id, p, -1));
+                self.part(id, p, changes);
             }
         }
         for &p in &found {
@@ -418,6 +413,16 @@ impl LooseGrid {
         if self.big.len() > MANY_BIG && self.big.len() * BIG_SHARE > self.live {
             self.refile();
         }
+    }
+
+    /// Ends the pair of `id` and its partner `p`: off `p`'s partners, and reported.
+    fn part(&mut self, id: u32, p: u32, changes: &mut Vec<PairChange>) {
+        let q = self.members[p as usize].as_mut().expect("a member");
+        if let Some(i) = q.partners.iter().position(|&x| x == id) {
+            q.partners.swap_remove(i);
+        }
+        self.pairs -= 1;
+        changes.push(pair_change(id, p, -1));
     }
 
     fn schedule(&mut self, id: u32, exit: Real) {
@@ -501,12 +506,7 @@ impl CandidateStructure for LooseGrid {
         self.live -= 1;
         let m = self.members[id as usize].take().expect("a member");
         for p in m.partners {
-            let q = self.members[p as usize].as_mut().expect("a member");
-            if let Some(i) = q.partners.iter().position(|&x| x == id) {
-                q.partners.swap_remove(i);
-            }
-            self.pairs -= 1;
-            changes.push(pair_change(id, p, -1));
+            self.part(id, p, changes);
         }
         self.exits.remove(id);
     }

@@ -211,7 +211,9 @@ impl PairBook {
     }
 }
 
-/// The gate for proxies `a` and `b` over the window from `t0` to `t1` ([`Gate`]).
+/// The gate for proxies `a` and `b` over the window from `t0` to `t1` ([`Gate`]): whether
+/// they can meet ([`proxies_meet`]), and when to ask again ([`proxies_overlap_until`] for
+/// proxies that can, [`apart_after`] for proxies that cannot).
 pub(crate) fn proxies_gate(a: &Body, b: &Body, t0: Real, t1: Real) -> Gate {
     if proxies_meet(a, b, t0, t1) {
         Gate {
@@ -221,16 +223,35 @@ pub(crate) fn proxies_gate(a: &Body, b: &Body, t0: Real, t1: Real) -> Gate {
     } else {
         Gate {
             meet: false,
-            wake: proxies_apart_until(a, b, t0, t1),
+            wake: apart_after(a, b, t0, t1),
         }
     }
+}
+
+/// The rounding allowance for proxies `a` and `b` at positions `pa` and `pb`.
+fn tolerance(a: &Body, b: &Body, pa: Vec3, pb: Vec3) -> Real {
+    let reach = a.shape.outer_radius() + b.shape.outer_radius();
+    1e-9 * (reach + pa.abs().max_element() + pb.abs().max_element())
+}
+
+/// The least time from `t0` in which the relative motion of `a` and `b` can cover `gap`:
+/// the first tau with `|dv| tau + |da| tau^2 / 2 = gap`, a hair short for rounding. `None`
+/// for a gap that is not positive (or NaN).
+fn time_to_cover(a: &Body, b: &Body, t0: Real, gap: Real) -> Option<Real> {
+    if gap.is_nan() || gap <= 0.0 {
+        return None;
+    }
+    let d1 = (a.plan.velocity_at(t0) - b.plan.velocity_at(t0)).length();
+    let d2 = ((a.plan.acceleration - b.plan.acceleration) * 0.5).length();
+    let tau = 2.0 * gap / (d1 + (d1 * d1 + 4.0 * d2 * gap).sqrt());
+    (!tau.is_nan()).then_some(tau * (1.0 - 1e-9))
 }
 
 /// A time before which proxies `a` and `b`, overlapping at `t0`, surely still overlap
 /// (`t0` when they do not overlap at `t0`, or only by rounding): the depth of the overlap
 /// less the most the relative velocity and acceleration can open. Balls by their centres'
 /// distance, other shapes by their boxes'.
-pub(crate) fn proxies_overlap_until(a: &Body, b: &Body, t0: Real) -> Real {
+fn proxies_overlap_until(a: &Body, b: &Body, t0: Real) -> Real {
     let (pa, pb) = (a.plan.position_at(t0), b.plan.position_at(t0));
     let depth = match (&a.shape, &b.shape) {
         (Shape::Ball { radius: ra }, Shape::Ball { radius: rb }) => ra + rb - (pa - pb).length(),
@@ -239,45 +260,29 @@ pub(crate) fn proxies_overlap_until(a: &Body, b: &Body, t0: Real) -> Real {
             (ahi - blo).min(bhi - alo).min_element()
         }
     };
+    let depth = depth - 2.0 * tolerance(a, b, pa, pb);
+    time_to_cover(a, b, t0, depth).map_or(t0, |tau| t0 + tau)
+}
+
+/// For proxies `a` and `b` that cannot meet between `t0` and `t1`, a time before which they
+/// cannot meet, at least `t1`: beyond the window, a lower bound from their outer balls (the
+/// gap now less the most the relative velocity and acceleration can close).
+fn apart_after(a: &Body, b: &Body, t0: Real, t1: Real) -> Real {
+    let (pa, pb) = (a.plan.position_at(t0), b.plan.position_at(t0));
     let reach = a.shape.outer_radius() + b.shape.outer_radius();
-    let tol = 1e-9 * (reach + pa.abs().max_element() + pb.abs().max_element());
-    let depth = depth - 2.0 * tol;
-    if depth.is_nan() || depth <= 0.0 {
-        return t0;
-    }
-    let d1 = (a.plan.velocity_at(t0) - b.plan.velocity_at(t0)).length();
-    let d2 = ((a.plan.acceleration - b.plan.acceleration) * 0.5).length();
-    let tau = 2.0 * depth / (d1 + (d1 * d1 + 4.0 * d2 * depth).sqrt());
-    if tau.is_nan() {
-        return t0;
-    }
-    t0 + tau * (1.0 - 1e-9)
+    let gap = (pa - pb).length() - reach - 2.0 * tolerance(a, b, pa, pb);
+    time_to_cover(a, b, t0, gap).map_or(t1, |tau| t1.max(t0 + tau))
 }
 
 /// The time before which proxies `a` and `b`, on their plans, cannot meet, looking from `t0`:
-/// minus infinity when they can meet between `t0` and `t1` ([`proxies_meet`]), else at least
-/// `t1`. Beyond the window it is a lower bound from their outer balls: the gap now less the
-/// most the relative velocity and acceleration can close.
-pub(crate) fn proxies_apart_until(a: &Body, b: &Body, t0: Real, t1: Real) -> Real {
+/// minus infinity when they can meet between `t0` and `t1`, else [`apart_after`].
+#[cfg(test)]
+fn proxies_apart_until(a: &Body, b: &Body, t0: Real, t1: Real) -> Real {
     if proxies_meet(a, b, t0, t1) {
-        return Real::NEG_INFINITY;
+        Real::NEG_INFINITY
+    } else {
+        apart_after(a, b, t0, t1)
     }
-    let (pa, pb) = (a.plan.position_at(t0), b.plan.position_at(t0));
-    let d0 = (pa - pb).length();
-    let d1 = (a.plan.velocity_at(t0) - b.plan.velocity_at(t0)).length();
-    let d2 = ((a.plan.acceleration - b.plan.acceleration) * 0.5).length();
-    let reach = a.shape.outer_radius() + b.shape.outer_radius();
-    let tol = 1e-9 * (reach + pa.abs().max_element() + pb.abs().max_element());
-    // The first tau with d1 tau + d2 tau^2 = gap: the outer balls stay apart before it.
-    let gap = d0 - reach - 2.0 * tol;
-    if gap <= 0.0 {
-        return t1;
-    }
-    let tau = 2.0 * gap / (d1 + (d1 * d1 + 4.0 * d2 * gap).sqrt());
-    if tau.is_nan() {
-        return t1;
-    }
-    t1.max(t0 + tau * (1.0 - 1e-9))
 }
 
 /// Whether proxies `a` and `b`, on their plans, can meet between `t0` and `t1`: for two
@@ -446,12 +451,7 @@ mod tests {
 
     #[test]
     fn a_ball_and_a_box_meet_when_their_swept_boxes_overlap() {
-        let slab = Body {
-            shape: kinetic_flight::ConvexShape::cuboid(Vec3::new(10.0, 0.5, 10.0))
-                .unwrap()
-                .into_shape(),
-            plan: FlightPlan::at_rest(Vec3::new(0.0, -0.5, 0.0)),
-        };
+        let slab = slab();
         // A ball of radius 0.5 falling from 3 at speed 2: its box reaches the slab's top at
         // t = 1.25.
         let ball = ball(
@@ -494,12 +494,7 @@ mod tests {
         assert_eq!(proxies_overlap_until(&a, &d, 0.0), Real::INFINITY);
         // A ball resting 0.2 deep in a slab, falling at 2 from rest: the boxes' depth 0.2
         // opens no sooner than sqrt(0.2) (acceleration 2 is 1 t^2).
-        let slab = Body {
-            shape: kinetic_flight::ConvexShape::cuboid(Vec3::new(10.0, 0.5, 10.0))
-                .unwrap()
-                .into_shape(),
-            plan: FlightPlan::at_rest(Vec3::new(0.0, -0.5, 0.0)),
-        };
+        let slab = slab();
         let rising = ball(
             0.5,
             FlightPlan::accelerated(
@@ -510,6 +505,16 @@ mod tests {
         );
         let until = proxies_overlap_until(&rising, &slab, 0.0);
         assert!((until - 0.2f64.sqrt()).abs() < 1e-6, "{until}");
+    }
+
+    /// A resting slab 20 wide and 1 thick, its top at 0 (as rapier's ground).
+    fn slab() -> Body {
+        Body {
+            shape: kinetic_flight::ConvexShape::cuboid(Vec3::new(10.0, 0.5, 10.0))
+                .unwrap()
+                .into_shape(),
+            plan: FlightPlan::at_rest(Vec3::new(0.0, -0.5, 0.0)),
+        }
     }
 
     fn ball_at(radius: Real, x: Real, v: Real) -> Body {
