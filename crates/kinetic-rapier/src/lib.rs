@@ -202,6 +202,13 @@ pub struct KineticBroadPhase {
     /// book's gate to know when to ask again.
     plans: Vec<u32>,
     proxies: Vec<Option<Proxy>>,
+    /// Per collider index, the generation of the collider held there and the index of its
+    /// moving body (`u32::MAX` for a fixed one): all a position update reads of each moved
+    /// collider, kept compact because rapier lists them in its islands' order.
+    movers: Vec<Option<(u32, u32)>>,
+    /// The bodies moved in this position update, a bit per body index: they are looked at
+    /// in index order, each once, whatever order rapier lists their colliders in.
+    moved_bits: Vec<u64>,
     motions: ByBody<Motion>,
     /// Bodies whose plans are not at rest, in the order they started moving.
     moving: Vec<RigidBodyHandle>,
@@ -259,6 +266,8 @@ impl KineticBroadPhase {
             bodies: Vec::new(),
             plans: Vec::new(),
             proxies: Vec::new(),
+            movers: Vec::new(),
+            moved_bits: Vec::new(),
             motions: ByBody::default(),
             moving: Vec::new(),
             grown: Vec::new(),
@@ -425,6 +434,7 @@ impl KineticBroadPhase {
         }
         self.changes = changes;
         let proxy = self.proxies[i as usize].take().expect("held");
+        self.movers[i as usize] = None;
         if let Hold::Moving { body, .. } = proxy.hold
             && let Some(m) = self.motions.get_mut(body)
         {
@@ -481,6 +491,7 @@ impl KineticBroadPhase {
             self.bodies.resize(need, None);
             self.plans.resize(need, 0);
             self.proxies.resize(need, None);
+            self.movers.resize(need, None);
         }
     }
 
@@ -545,6 +556,11 @@ impl KineticBroadPhase {
                 hold,
                 grown_until: None,
             });
+            let body = match hold {
+                Hold::Moving { body, .. } => body.into_raw_parts().0,
+                Hold::Fixed { .. } => u32::MAX,
+            };
+            self.movers[i as usize] = Some((h.into_raw_parts().1, body));
         }
         if self.structure.is_none() {
             let choice = self.choice.unwrap_or_else(|| pick_structure(&holds));
@@ -823,14 +839,22 @@ impl BroadPhase for KineticBroadPhase {
         let mut new = Vec::new();
         let mut moved: Vec<RigidBodyHandle> = Vec::new();
         for &h in modified_colliders {
-            if !starts_step && self.known(h) {
+            if !starts_step {
                 // After a position update a held collider has only moved with its body (only
                 // the user changes shapes, parents and body types, at the start of a step).
-                let i = h.into_raw_parts().0 as usize;
-                if let Hold::Moving { body, .. } = self.proxies[i].expect("known").hold {
-                    moved.push(body);
+                let (i, generation) = h.into_raw_parts();
+                if let Some(Some((g, body))) = self.movers.get(i as usize)
+                    && *g == generation
+                {
+                    if *body != u32::MAX {
+                        let (word, bit) = (*body as usize / 64, *body % 64);
+                        if self.moved_bits.len() <= word {
+                            self.moved_bits.resize(word + 1, 0);
+                        }
+                        self.moved_bits[word] |= 1 << bit;
+                    }
+                    continue;
                 }
-                continue;
             }
             let Some(co) = colliders.get(h) else { continue };
             if !co.is_enabled() {
@@ -855,6 +879,17 @@ impl BroadPhase for KineticBroadPhase {
 
         // Bodies that moved: what they showed of their acceleration, then their plans.
         let mut seen_moving = 0;
+        for word in 0..self.moved_bits.len() {
+            while self.moved_bits[word] != 0 {
+                let bits = self.moved_bits[word];
+                self.moved_bits[word] = bits & (bits - 1);
+                let index = word * 64 + bits.trailing_zeros() as usize;
+                let Some(b) = self.motions.handle_at(index) else {
+                    continue;
+                };
+                moved.push(b);
+            }
+        }
         for &b in &moved {
             let Some(rb) = bodies.get(b) else { continue };
             let Some(m) = self.motions.get_mut(b) else {

@@ -36,6 +36,11 @@ impl<T> ByBody<T> {
         }
     }
 
+    /// The handle of the body whose record is at index `i`, if any.
+    pub(crate) fn handle_at(&self, i: usize) -> Option<RigidBodyHandle> {
+        self.slots.get(i)?.as_ref().map(|(h, _)| *h)
+    }
+
     pub(crate) fn contains(&self, h: RigidBodyHandle) -> bool {
         self.get(h).is_some()
     }
