@@ -593,6 +593,11 @@ impl Grid {
     fn place(&mut self, id: u32, now: Real, changes: &mut Vec<PairChange>) {
         let level = self.member(id).level;
         let levels: Vec<i32> = self.occupied.range(level..).copied().collect();
+        self.members[id as usize]
+            .as_mut()
+            .expect("a member")
+            .tracks
+            .reserve_exact(levels.len());
         let mut keys = Vec::new();
         for l in levels {
             let track = self.footprint(self.member(id), l, now);
