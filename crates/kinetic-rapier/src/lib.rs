@@ -228,6 +228,18 @@ pub struct KineticBroadPhase {
     audit_error: Option<String>,
 }
 
+impl Proxy {
+    /// Its entry in [`KineticBroadPhase::movers`]: the collider's generation and the index
+    /// of its moving body (`u32::MAX` when fixed).
+    fn mover(&self) -> (u32, u32) {
+        let body = match self.hold {
+            Hold::Moving { body, .. } => body.into_raw_parts().0,
+            Hold::Fixed { .. } => u32::MAX,
+        };
+        (self.handle.into_raw_parts().1, body)
+    }
+}
+
 impl Motion {
     /// How much its base slack is grown: `2^growth`.
     fn scale(&self) -> Real {
@@ -352,6 +364,15 @@ impl KineticBroadPhase {
         for (h, co) in colliders.iter() {
             if co.is_enabled() && !self.known(h) {
                 return Err(format!("collider {h:?} is not held"));
+            }
+        }
+        for (i, p) in self.proxies.iter().enumerate() {
+            let want = p.as_ref().map(Proxy::mover);
+            if self.movers.get(i).copied().flatten() != want {
+                return Err(format!(
+                    "collider {i}: mover entry {:?}, held as {want:?}",
+                    self.movers.get(i)
+                ));
             }
         }
         for (h, m) in self.motions.iter() {
@@ -551,16 +572,13 @@ impl KineticBroadPhase {
                     self.refit(body, bodies, params, true);
                 }
             }
-            self.proxies[i as usize] = Some(Proxy {
+            let proxy = Proxy {
                 handle: h,
                 hold,
                 grown_until: None,
-            });
-            let body = match hold {
-                Hold::Moving { body, .. } => body.into_raw_parts().0,
-                Hold::Fixed { .. } => u32::MAX,
             };
-            self.movers[i as usize] = Some((h.into_raw_parts().1, body));
+            self.movers[i as usize] = Some(proxy.mover());
+            self.proxies[i as usize] = Some(proxy);
         }
         if self.structure.is_none() {
             let choice = self.choice.unwrap_or_else(|| pick_structure(&holds));
@@ -1021,5 +1039,102 @@ impl BroadPhase for KineticBroadPhase {
                 events.push(BroadPhasePairEvent::DeletePair(pair));
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Steps a ground and two falling balls `steps` times with `bp`.
+    struct World {
+        bodies: RigidBodySet,
+        colliders: ColliderSet,
+        islands: IslandManager,
+        narrow: NarrowPhase,
+        joints: ImpulseJointSet,
+        multibody: MultibodyJointSet,
+        pipeline: PhysicsPipeline,
+    }
+
+    impl World {
+        fn new() -> (World, [ColliderHandle; 3], RigidBodyHandle) {
+            let (mut bodies, mut colliders) = (RigidBodySet::new(), ColliderSet::new());
+            let ground = colliders.insert(ColliderBuilder::cuboid(10.0, 0.1, 10.0).build());
+            let mut balls = [ground; 2];
+            let mut first = None;
+            for (k, ball) in balls.iter_mut().enumerate() {
+                let b = bodies.insert(RigidBodyBuilder::dynamic().translation(vector![
+                    k as f32 * 2.0,
+                    1.0,
+                    0.0
+                ]));
+                first.get_or_insert(b);
+                *ball = colliders.insert_with_parent(ColliderBuilder::ball(0.5), b, &mut bodies);
+            }
+            let world = World {
+                bodies,
+                colliders,
+                islands: IslandManager::new(),
+                narrow: NarrowPhase::new(),
+                joints: ImpulseJointSet::new(),
+                multibody: MultibodyJointSet::new(),
+                pipeline: PhysicsPipeline::new(),
+            };
+            (world, [ground, balls[0], balls[1]], first.expect("a body"))
+        }
+
+        fn step(&mut self, bp: &mut KineticBroadPhase, steps: usize) {
+            for _ in 0..steps {
+                self.pipeline.step(
+                    &vector![0.0, -9.81, 0.0],
+                    &IntegrationParameters::default(),
+                    &mut self.islands,
+                    bp,
+                    &mut self.narrow,
+                    &mut self.bodies,
+                    &mut self.colliders,
+                    &mut self.joints,
+                    &mut self.multibody,
+                    &mut CCDSolver::new(),
+                    &(),
+                    &(),
+                );
+                bp.validate(&self.colliders, &self.bodies)
+                    .expect("a valid broad phase");
+            }
+        }
+    }
+
+    #[test]
+    fn the_mover_table_follows_the_held_colliders_and_validate_checks_it() {
+        let (mut world, [ground, ball, other], body) = World::new();
+        let mut bp = KineticBroadPhase::new();
+        world.step(&mut bp, 5);
+        let entry =
+            |bp: &KineticBroadPhase, h: ColliderHandle| bp.movers[h.into_raw_parts().0 as usize];
+        let generation = |h: ColliderHandle| h.into_raw_parts().1;
+        assert_eq!(entry(&bp, ground), Some((generation(ground), u32::MAX)));
+        assert_eq!(
+            entry(&bp, ball),
+            Some((generation(ball), body.into_raw_parts().0))
+        );
+        // A stale entry (the ball taken for fixed) is caught.
+        let i = ball.into_raw_parts().0 as usize;
+        let kept = bp.movers[i];
+        bp.movers[i] = Some((generation(ball), u32::MAX));
+        let err = bp
+            .validate(&world.colliders, &world.bodies)
+            .expect_err("a stale mover entry");
+        assert!(err.contains("mover"), "{err}");
+        bp.movers[i] = kept;
+        // A removed collider leaves no entry; the other ball still moves and is re-planned.
+        world
+            .colliders
+            .remove(other, &mut world.islands, &mut world.bodies, true);
+        world.step(&mut bp, 30);
+        assert_eq!(entry(&bp, other), None);
+        assert!(bp.stats().replans > 0);
+        assert!(world.bodies[body].translation().y < 0.9);
     }
 }
