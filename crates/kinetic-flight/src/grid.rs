@@ -33,7 +33,7 @@
 //! The sweep's events are the swaps of three global orders, O(n^2) for a crowd that passes
 //! another; the grid's are the cell crossings and the box events of neighbours.
 
-use crate::sweep::{Ends, box_ends};
+use crate::sweep::{Ends, box_ends, box_width};
 use kinetic_core::roots::quadratic_roots;
 use kinetic_core::{
     Bodies, CandidateStructure, EventQueue, PairChange, Real, ScalarKey, Vec3, sign,
@@ -702,10 +702,7 @@ impl CandidateStructure for Grid {
             // The finest cells fit the smallest box. Levels are a power of two apart, so that
             // the middle 98% of sizes span about BULK_LEVELS levels: 2 for similar sizes, wider
             // for a spread (fewer levels for each object to visit).
-            let w = ids.iter().map(|&id| {
-                let (lo, hi) = box_ends(bodies, id);
-                (hi - lo).max_element()
-            });
+            let w = ids.iter().map(|&id| box_width(bodies, id));
             if let Some((base, ratio)) = levels_for(w) {
                 self.base = Some(base);
                 self.ratio = ratio;

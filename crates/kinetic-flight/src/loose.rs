@@ -26,7 +26,7 @@
 //! pairs pays for every box event and re-plan with certificates of all its neighbours.
 
 use crate::grid::{Local, crossing};
-use crate::sweep::box_ends;
+use crate::sweep::{box_ends, box_width};
 use kinetic_core::{Bodies, CandidateStructure, EventQueue, PairChange, Real, ScalarKey, Vec3};
 use rustc_hash::FxHashMap;
 
@@ -168,8 +168,7 @@ impl LooseGrid {
 
     /// A fresh region for object `id` from `now`: its corners.
     fn region(&self, bodies: &Bodies, id: u32, now: Real) -> (Vec3, Vec3) {
-        let (lo, hi) = box_ends(bodies, id);
-        let w = (hi - lo).max_element();
+        let w = box_width(bodies, id);
         let plan = &bodies[id as usize].as_ref().expect("a live object").plan;
         let (v, a) = (plan.velocity_at(now).length(), plan.acceleration.length());
         let d = self.travel * w;
@@ -473,11 +472,7 @@ impl CandidateStructure for LooseGrid {
         changes: &mut Vec<PairChange>,
     ) {
         if self.cell.is_none() {
-            let boxes = ids.iter().map(|&id| {
-                let (lo, hi) = box_ends(bodies, id);
-                (hi - lo).max_element()
-            });
-            if let Some(w) = median(boxes) {
+            if let Some(w) = median(ids.iter().map(|&id| box_width(bodies, id))) {
                 self.typical = w;
             }
             // Cells as wide as the first regions' median.

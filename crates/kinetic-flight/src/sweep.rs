@@ -59,6 +59,12 @@ pub(crate) fn box_ends(bodies: &Bodies, id: u32) -> Ends {
     (lo - pad, hi + pad)
 }
 
+/// The widest side of object `id`'s box ([`box_ends`]).
+pub(crate) fn box_width(bodies: &Bodies, id: u32) -> Real {
+    let (lo, hi) = box_ends(bodies, id);
+    (hi - lo).max_element()
+}
+
 /// The two ends of object `id`'s box.
 fn items(bodies: &Bodies, id: u32, (lo, hi): Ends) -> AxisItems {
     let plan = &bodies[id as usize].as_ref().expect("a live object").plan;
