@@ -125,6 +125,13 @@ fn sparse_small_balls_and_a_few_large_ones_match_the_box_pairs_through_replans_a
     assert!(counters["crossings"] > 1000.0, "{counters:?}");
     assert!(counters["box_events"] > 50.0, "{counters:?}");
     assert!(counters["levels"] >= 3.0, "{counters:?}");
+    // The small balls' footprints at the large ones' levels follow their own (no
+    // certificates), and validate() above checked them against their boxes after every event.
+    assert!(counters["derived_tracks"] >= 200.0, "{counters:?}");
+    assert!(
+        counters["derived_tracks"] < counters["tracks"],
+        "{counters:?}"
+    );
     assert!(events > 1000, "{events}");
 }
 
