@@ -36,7 +36,8 @@
 //!   about one of its objects per cell: fewer crossings.
 //!
 //! Cost: a footprint (12 certificates) per object at its own level and at each occupied level
-//! above it whose cells are narrower, three certificates per grid pair; an event costs O(1) hash-map work and a queue update.
+//! above it whose cells are narrower, three certificates per grid pair; an event costs O(1)
+//! hash-map work and a queue update.
 //! The sweep's events are the swaps of three global orders, O(n^2) for a crowd that passes
 //! another; the grid's are the cell crossings and the box events of neighbours.
 
@@ -968,14 +969,9 @@ impl CandidateStructure for Grid {
                 ));
             }
             for t in &m.tracks {
-                let shift = if t.level == m.level {
-                    None
-                } else {
-                    self.shift_to(m.level, t.level)
-                };
+                let shift = self.shift_to(m.level, t.level);
                 if t.shift != shift
-                    || shift
-                        .is_some_and(|s| t.cells != m.tracks[0].cells.map(|r| r.map(|c| c >> s)))
+                    || shift.is_some_and(|s| t.cells != Track::derived(&m.tracks[0], 0, s).cells)
                 {
                     return Err(format!(
                         "grid: object {id} at level {}: derived {:?}, should be {shift:?} from its own cells",
