@@ -250,6 +250,21 @@ impl Motion {
     fn slack_now(&self) -> Real {
         self.slack * self.scale()
     }
+
+    /// Whether the body, at `x` with velocity `v` at time `t`, keeps its plan: within its
+    /// slack of it now, and by the end of the step (`dt`) on the path rapier gives it if
+    /// nothing touches it ([`fit`], evaluated without building the plan).
+    fn keeps_plan(&self, x: Vec3, v: Vec3, t: Real, dt: Real, substeps: Real) -> bool {
+        let slack = self.slack_now();
+        let slack2 = slack * slack;
+        if (x - self.plan.position_at(t)).length_squared() > slack2 {
+            return false;
+        }
+        let (a, end) = (self.steady_a, t + dt);
+        let d = end - t;
+        let ballistic = x + (v + a * (dt / (2.0 * substeps)) + a * (0.5 * d)) * d;
+        (ballistic - self.plan.position_at(end)).length_squared() <= slack2
+    }
 }
 
 impl Default for KineticBroadPhase {
@@ -668,16 +683,13 @@ impl KineticBroadPhase {
         let dt = self.clock.dt.max(params.dt as Real);
         let m = self.motions.get_mut(h).expect("a motion");
         let x = centre_of_mass(rb);
+        let v = dvec(rb.linvel());
         let substeps = params.num_solver_iterations.get() as Real;
-        // Where rapier will put it by the end of the step if nothing touches it.
-        let ballistic = fit(x, dvec(rb.linvel()), m.steady_a, t, dt, substeps);
-        let slack = m.slack_now();
-        let slack2 = slack * slack;
-        let off_now = (x - m.plan.position_at(t)).length_squared();
-        let off_end = (ballistic.position_at(t + dt) - m.plan.position_at(t + dt)).length_squared();
-        if !force && off_now <= slack2 && off_end <= slack2 {
+        if !force && m.keeps_plan(x, v, t, dt, substeps) {
             return None;
         }
+        // Where rapier will put it by the end of the step if nothing touches it.
+        let ballistic = fit(x, v, m.steady_a, t, dt, substeps);
         // A body that sleeps, or would stay within half its slack for the next
         // REST_STEPS steps (one resting in a pile), is planned at rest: its box ends then
         // stay put instead of swapping back and forth with its neighbours' as it jitters.
@@ -897,6 +909,8 @@ impl BroadPhase for KineticBroadPhase {
 
         // Bodies that moved: what they showed of their acceleration, then their plans.
         let mut seen_moving = 0;
+        let step_dt = self.clock.dt.max(dt);
+        let substeps = params.num_solver_iterations.get() as Real;
         for word in 0..self.moved_bits.len() {
             while self.moved_bits[word] != 0 {
                 let bits = self.moved_bits[word];
@@ -916,8 +930,8 @@ impl BroadPhase for KineticBroadPhase {
             if m.seen == update && !starts_step {
                 continue;
             }
+            let v = dvec(rb.linvel());
             if !starts_step {
-                let v = dvec(rb.linvel());
                 if m.seen.wrapping_add(1) == update {
                     let a = (v - m.last_v) / dt;
                     if let Some(prev) = m.last_a {
@@ -939,6 +953,11 @@ impl BroadPhase for KineticBroadPhase {
                 }
                 m.last_v = v;
                 m.seen = update;
+            }
+            // Most bodies keep their plans: checked here, with no second look-up.
+            if m.keeps_plan(centre_of_mass(rb), v, self.clock.pos, step_dt, substeps) {
+                seen_moving += usize::from(m.listed && m.seen == update);
+                continue;
             }
             if let Some(resized) = self.refit(b, bodies, params, false) {
                 self.replan(b, resized);

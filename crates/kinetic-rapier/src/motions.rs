@@ -5,15 +5,20 @@
 use rapier3d::prelude::RigidBodyHandle;
 
 /// Records of type `T` by rigid-body handle; a slot whose handle is stale (a body removed and
-/// its index reused) counts as empty.
+/// its index reused) counts as empty. The handles sit apart from the records, so that finding
+/// which body holds an index reads 8 bytes, not a whole record.
 #[derive(Clone, Debug)]
 pub(crate) struct ByBody<T> {
-    slots: Vec<Option<(RigidBodyHandle, T)>>,
+    keys: Vec<Option<RigidBodyHandle>>,
+    values: Vec<Option<T>>,
 }
 
 impl<T> Default for ByBody<T> {
     fn default() -> Self {
-        ByBody { slots: Vec::new() }
+        ByBody {
+            keys: Vec::new(),
+            values: Vec::new(),
+        }
     }
 }
 
@@ -23,22 +28,24 @@ fn index(h: RigidBodyHandle) -> usize {
 
 impl<T> ByBody<T> {
     pub(crate) fn get(&self, h: RigidBodyHandle) -> Option<&T> {
-        match self.slots.get(index(h)) {
-            Some(Some((k, v))) if *k == h => Some(v),
+        let i = index(h);
+        match self.keys.get(i) {
+            Some(Some(k)) if *k == h => self.values[i].as_ref(),
             _ => None,
         }
     }
 
     pub(crate) fn get_mut(&mut self, h: RigidBodyHandle) -> Option<&mut T> {
-        match self.slots.get_mut(index(h)) {
-            Some(Some((k, v))) if *k == h => Some(v),
+        let i = index(h);
+        match self.keys.get(i) {
+            Some(Some(k)) if *k == h => self.values[i].as_mut(),
             _ => None,
         }
     }
 
     /// The handle of the body whose record is at index `i`, if any.
     pub(crate) fn handle_at(&self, i: usize) -> Option<RigidBodyHandle> {
-        self.slots.get(i)?.as_ref().map(|(h, _)| *h)
+        *self.keys.get(i)?
     }
 
     pub(crate) fn contains(&self, h: RigidBodyHandle) -> bool {
@@ -52,26 +59,31 @@ impl<T> ByBody<T> {
         make: impl FnOnce() -> T,
     ) -> &mut T {
         let i = index(h);
-        if self.slots.len() <= i {
-            self.slots.resize_with(i + 1, || None);
+        if self.keys.len() <= i {
+            self.keys.resize(i + 1, None);
+            self.values.resize_with(i + 1, || None);
         }
-        let slot = &mut self.slots[i];
-        if !matches!(slot, Some((k, _)) if *k == h) {
-            *slot = Some((h, make()));
+        if self.keys[i] != Some(h) {
+            self.keys[i] = Some(h);
+            self.values[i] = Some(make());
         }
-        &mut slot.as_mut().expect("just filled").1
+        self.values[i].as_mut().expect("just filled")
     }
 
     pub(crate) fn remove(&mut self, h: RigidBodyHandle) -> Option<T> {
-        let slot = self.slots.get_mut(index(h))?;
-        if !matches!(slot, Some((k, _)) if *k == h) {
+        let i = index(h);
+        if self.keys.get(i) != Some(&Some(h)) {
             return None;
         }
-        slot.take().map(|(_, v)| v)
+        self.keys[i] = None;
+        self.values[i].take()
     }
 
     pub(crate) fn iter(&self) -> impl Iterator<Item = (RigidBodyHandle, &T)> {
-        self.slots.iter().flatten().map(|(h, v)| (*h, v))
+        self.keys
+            .iter()
+            .zip(&self.values)
+            .filter_map(|(k, v)| Some(((*k)?, v.as_ref()?)))
     }
 }
 
