@@ -855,6 +855,14 @@ impl CandidateStructure for Grid {
             self.members[id as usize] = Some(m);
             fresh.push(id);
         }
+        // Room for what a bulk of objects fills at once (cells, grid pairs), so that the
+        // tables are not grown and copied over and over while it is placed.
+        if fresh.len() > 1 {
+            let n = fresh.len();
+            self.cells.reserve(n);
+            self.pair_of.reserve(2 * n);
+            self.slots.reserve(2 * n);
+        }
         for id in fresh {
             self.place(id, now, changes);
         }
