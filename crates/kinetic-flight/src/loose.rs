@@ -8,7 +8,8 @@
 //!   widths. An object at rest holds its box widened by the margin for as long as it rests.
 //! - Events: an object whose box reaches the edge of its region is given a new region from
 //!   where it is (re-anchored); its pairs are found again among the objects whose regions
-//!   share a grid cell with its new one.
+//!   share a grid cell with its new one. It stays filed in the cells both regions cover and
+//!   only leaves and enters the others.
 //! - Re-plans: an object whose new plan keeps its box inside its region keeps the region and
 //!   only has its exit time recomputed. A body jostled in a pile, re-planned every few steps,
 //!   so costs one root computation and a queue update, not a pass over its neighbours.
@@ -87,6 +88,8 @@ pub struct LooseGrid {
     epoch: u64,
     pairs: usize,
     anchors: u64,
+    /// Re-anchors whose new region covers the same cells as the old (left filed there).
+    same_cells: u64,
     kept: u64,
     refiles: u64,
     scratch: Vec<u32>,
@@ -126,6 +129,7 @@ impl LooseGrid {
             epoch: 0,
             pairs: 0,
             anchors: 0,
+            same_cells: 0,
             kept: 0,
             refiles: 0,
             scratch: Vec::new(),
@@ -244,6 +248,19 @@ impl LooseGrid {
         (all <= MAX_CELLS).then_some(f)
     }
 
+    /// The slot of cell `key`, made if the cell is new.
+    fn slot_for(&mut self, key: CellKey) -> u32 {
+        if let Some(&slot) = self.cells.get(&key) {
+            return slot;
+        }
+        let slot = self.free.pop().unwrap_or_else(|| {
+            self.occupants.push(Vec::new());
+            (self.occupants.len() - 1) as u32
+        });
+        self.cells.insert(key, slot);
+        slot
+    }
+
     /// Files member `id`'s region: in the cells it covers, or in the big list. Returns the
     /// slots.
     fn file(&mut self, id: u32, lo: Vec3, hi: Vec3) -> (Vec<u32>, bool) {
@@ -253,21 +270,57 @@ impl LooseGrid {
         };
         let mut slots = Vec::with_capacity(8);
         for key in cell_keys(f) {
-            let slot = match self.cells.get(&key) {
-                Some(&slot) => slot,
-                None => {
-                    let slot = self.free.pop().unwrap_or_else(|| {
-                        self.occupants.push(Vec::new());
-                        (self.occupants.len() - 1) as u32
-                    });
-                    self.cells.insert(key, slot);
-                    slot
-                }
-            };
+            let slot = self.slot_for(key);
             self.occupants[slot as usize].push(id);
             slots.push(slot);
         }
         (slots, false)
+    }
+
+    /// Moves member `id`'s filing from the cells of footprint `from` (its `slots`, in
+    /// [`cell_keys`] order) to those of `to`: out of the cells only `from` covers (emptied
+    /// ones forgotten), into those only `to` covers. Returns the slots of `to`, in order.
+    fn shift_filing(
+        &mut self,
+        id: u32,
+        slots: Vec<u32>,
+        from: [[i64; 2]; 3],
+        to: [[i64; 2]; 3],
+    ) -> Vec<u32> {
+        let within = |f: &[[i64; 2]; 3], key: &CellKey| {
+            (0..3).all(|k| f[k][0] <= key[k] && key[k] <= f[k][1])
+        };
+        let mut out = Vec::with_capacity(slots.len());
+        let span = |k: usize| from[k][1] - from[k][0] + 1;
+        for key in cell_keys(to) {
+            if within(&from, &key) {
+                let at = ((key[0] - from[0][0]) * span(1) + key[1] - from[1][0]) * span(2) + key[2]
+                    - from[2][0];
+                out.push(slots[at as usize]);
+                continue;
+            }
+            let slot = self.slot_for(key);
+            self.occupants[slot as usize].push(id);
+            out.push(slot);
+        }
+        if from == to {
+            self.same_cells += 1;
+            return out;
+        }
+        for (key, &slot) in cell_keys(from).zip(&slots) {
+            if within(&to, &key) {
+                continue;
+            }
+            let list = &mut self.occupants[slot as usize];
+            if let Some(i) = list.iter().position(|&x| x == id) {
+                list.swap_remove(i);
+            }
+            if list.is_empty() {
+                self.cells.remove(&key);
+                self.free.push(slot);
+            }
+        }
+        out
     }
 
     /// Takes member `id` out of its cells (or the big list); emptied cells are forgotten.
@@ -339,9 +392,23 @@ impl LooseGrid {
     fn anchor(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>) {
         self.anchors += 1;
         let (lo, hi) = self.region(bodies, id, now);
+        // A region that still covers some of the same cells stays filed there: it leaves
+        // only the cells it no longer covers and enters only the new ones.
+        let mut kept_slots = None;
         let mut old = if self.present(id) {
-            self.unfile(id);
-            self.members[id as usize].take().expect("a member").partners
+            let m = self.member(id);
+            let moved = match (m.big, self.footprint(m.lo, m.hi), self.footprint(lo, hi)) {
+                (false, Some(from), Some(to)) => Some((from, to)),
+                _ => None,
+            };
+            if moved.is_none() {
+                self.unfile(id);
+            }
+            let m = self.members[id as usize].take().expect("a member");
+            if let Some((from, to)) = moved {
+                kept_slots = Some(self.shift_filing(id, m.slots, from, to));
+            }
+            m.partners
         } else {
             self.live += 1;
             Vec::new()
@@ -354,7 +421,10 @@ impl LooseGrid {
         self.mark[id as usize] = epoch;
         let mut found = std::mem::take(&mut self.scratch);
         found.clear();
-        let (slots, big) = self.file(id, lo, hi);
+        let (slots, big) = match kept_slots {
+            Some(slots) => (slots, false),
+            None => self.file(id, lo, hi),
+        };
         let (members, mark) = (&self.members, &mut self.mark);
         let mut meet = |p: u32, found: &mut Vec<u32>| {
             if mark[p as usize] != epoch {
@@ -549,6 +619,7 @@ impl CandidateStructure for LooseGrid {
             ("cell_size", self.cell.unwrap_or(0.0)),
             ("refiles", self.refiles as f64),
             ("anchors", self.anchors as f64),
+            ("anchors_same_cells", self.same_cells as f64),
             ("regions_kept", self.kept as f64),
         ]
     }
