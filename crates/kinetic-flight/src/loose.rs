@@ -287,6 +287,10 @@ impl LooseGrid {
         from: [[i64; 2]; 3],
         to: [[i64; 2]; 3],
     ) -> Vec<u32> {
+        if from == to {
+            self.same_cells += 1;
+            return slots;
+        }
         let within = |f: &[[i64; 2]; 3], key: &CellKey| {
             (0..3).all(|k| f[k][0] <= key[k] && key[k] <= f[k][1])
         };
@@ -302,10 +306,6 @@ impl LooseGrid {
             let slot = self.slot_for(key);
             self.occupants[slot as usize].push(id);
             out.push(slot);
-        }
-        if from == to {
-            self.same_cells += 1;
-            return out;
         }
         for (key, &slot) in cell_keys(from).zip(&slots) {
             if within(&to, &key) {

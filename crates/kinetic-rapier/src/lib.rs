@@ -667,16 +667,17 @@ impl KineticBroadPhase {
         }
     }
 
-    /// Checks body `h` against its plan at the positions' time and re-fits the plan if the
-    /// body left its slack now or would by the end of the step. `force` re-fits anyway.
-    /// Returns `None` when the plan is kept, else whether the slack changed with it (and so
-    /// the size of the body's proxies).
+    /// Fits body `h` a new plan at the positions' time: called for a body that left its
+    /// slack ([`Motion::keeps_plan`], checked by the caller) or, `first`, one seen for the
+    /// first time (which does not count as a re-plan towards its slack growing). Returns
+    /// whether the slack changed with it (and so the size of the body's proxies); `None`
+    /// for a body rapier no longer has.
     fn refit(
         &mut self,
         h: RigidBodyHandle,
         bodies: &RigidBodySet,
         params: &IntegrationParameters,
-        force: bool,
+        first: bool,
     ) -> Option<bool> {
         let rb = bodies.get(h)?;
         let t = self.clock.pos;
@@ -685,9 +686,6 @@ impl KineticBroadPhase {
         let x = centre_of_mass(rb);
         let v = dvec(rb.linvel());
         let substeps = params.num_solver_iterations.get() as Real;
-        if !force && m.keeps_plan(x, v, t, dt, substeps) {
-            return None;
-        }
         // Where rapier will put it by the end of the step if nothing touches it.
         let ballistic = fit(x, v, m.steady_a, t, dt, substeps);
         // A body that sleeps, or would stay within half its slack for the next
@@ -701,7 +699,7 @@ impl KineticBroadPhase {
         let update = self.clock.updates;
         let since = update.saturating_sub(m.replanned);
         let mut growth = m.growth;
-        if !force {
+        if !first {
             m.restless = if since <= RESTLESS_UPDATES {
                 m.restless + 1
             } else {
