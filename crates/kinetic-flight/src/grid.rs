@@ -180,8 +180,68 @@ struct Member {
 #[derive(Clone, Debug, Default)]
 struct Cell {
     owners: Vec<u32>,
-    /// A set: a coarse cell may hold thousands of small visitors.
-    visitors: FxHashSet<u32>,
+    visitors: Visitors,
+}
+
+/// A cell's visitors: a short list while there are few (most cells), a set once there are
+/// many (a coarse cell may hold thousands of small visitors).
+#[derive(Clone, Debug)]
+enum Visitors {
+    Few(Vec<u32>),
+    Many(FxHashSet<u32>),
+}
+
+/// The most visitors a cell keeps in a list.
+const FEW_VISITORS: usize = 16;
+
+impl Default for Visitors {
+    fn default() -> Self {
+        Visitors::Few(Vec::new())
+    }
+}
+
+impl Visitors {
+    fn insert(&mut self, id: u32) {
+        match self {
+            Visitors::Few(v) if v.len() < FEW_VISITORS => v.push(id),
+            Visitors::Few(v) => {
+                let mut set: FxHashSet<u32> = v.drain(..).collect();
+                set.insert(id);
+                *self = Visitors::Many(set);
+            }
+            Visitors::Many(set) => {
+                set.insert(id);
+            }
+        }
+    }
+
+    fn remove(&mut self, id: u32) {
+        match self {
+            Visitors::Few(v) => {
+                if let Some(i) = v.iter().position(|&x| x == id) {
+                    v.swap_remove(i);
+                }
+            }
+            Visitors::Many(set) => {
+                set.remove(&id);
+            }
+        }
+    }
+
+    fn is_empty(&self) -> bool {
+        match self {
+            Visitors::Few(v) => v.is_empty(),
+            Visitors::Many(set) => set.is_empty(),
+        }
+    }
+
+    fn iter(&self) -> impl Iterator<Item = &u32> {
+        let (few, many) = match self {
+            Visitors::Few(v) => (Some(v.iter()), None),
+            Visitors::Many(set) => (None, Some(set.iter())),
+        };
+        few.into_iter().flatten().chain(many.into_iter().flatten())
+    }
 }
 
 /// Every listing of the cells `cells` as `(cell, object) -> whether an owner`; an error
@@ -491,7 +551,7 @@ impl Grid {
                 cell.owners.swap_remove(i);
             }
         } else {
-            cell.visitors.remove(&id);
+            cell.visitors.remove(id);
         }
         let mut partners = std::mem::take(&mut self.scratch);
         partners.clear();
@@ -1074,7 +1134,7 @@ impl CandidateStructure for Grid {
         let mut want: FxHashMap<(u32, u32), u32> = FxHashMap::default();
         for cell in self.cells.values() {
             for (i, &x) in cell.owners.iter().enumerate() {
-                for &y in cell.owners[i + 1..].iter().chain(&cell.visitors) {
+                for &y in cell.owners[i + 1..].iter().chain(cell.visitors.iter()) {
                     *want.entry((x.min(y), x.max(y))).or_default() += 1;
                 }
             }
@@ -1150,5 +1210,41 @@ impl CandidateStructure for Grid {
             ));
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn listed(v: &Visitors) -> Vec<u32> {
+        let mut ids: Vec<u32> = v.iter().copied().collect();
+        ids.sort_unstable();
+        ids
+    }
+
+    #[test]
+    fn visitors_turn_from_a_list_into_a_set_and_keep_every_id_once() {
+        let mut v = Visitors::default();
+        assert!(v.is_empty());
+        for id in 0..FEW_VISITORS as u32 {
+            v.insert(id);
+        }
+        assert!(matches!(v, Visitors::Few(_)));
+        v.remove(3);
+        v.remove(99);
+        assert_eq!(listed(&v).len(), FEW_VISITORS - 1);
+        for id in 100..110 {
+            v.insert(id);
+        }
+        assert!(matches!(v, Visitors::Many(_)));
+        let mut want: Vec<u32> = (0..FEW_VISITORS as u32).filter(|&i| i != 3).collect();
+        want.extend(100..110);
+        assert_eq!(listed(&v), want);
+        for id in want {
+            v.remove(id);
+        }
+        assert!(v.is_empty());
+        assert!(listed(&v).is_empty());
     }
 }
