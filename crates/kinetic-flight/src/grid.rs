@@ -489,6 +489,7 @@ impl Grid {
     fn next_crossing(m: &Member) -> Real {
         m.tracks
             .iter()
+            .filter(|t| t.shift.is_none())
             .flat_map(|t| t.due.iter().flatten())
             .fold(Real::INFINITY, |x, &y| x.min(y))
     }
@@ -782,7 +783,13 @@ impl Grid {
         let m = self.member(id);
         // The due certificate: its track, axis and kind.
         let (mut ti, mut k, mut kind, mut best) = (0, 0, 0, Real::INFINITY);
-        for (i, t) in m.tracks.iter().enumerate() {
+        // Derived tracks have no certificates of their own.
+        for (i, t) in m
+            .tracks
+            .iter()
+            .enumerate()
+            .filter(|(_, t)| t.shift.is_none())
+        {
             for (axis, due) in t.due.iter().enumerate() {
                 for (c, &d) in due.iter().enumerate() {
                     if d < best {
