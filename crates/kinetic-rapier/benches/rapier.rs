@@ -3,11 +3,12 @@
 //! narrow phase.
 //!
 //! `cargo bench -p kinetic-rapier --bench rapier -- [N...] [--steps S] [--scenes rain,debris]
-//! [--repeat K]` (default N = 1000 10000 50000, S = 120, both scenes, K = 1). Each side runs K
-//! times, the two interleaved, and shows its run of median broad-phase time (timings on a
-//! shared machine drift by tens of percent between runs). Prints a markdown table; "after step 1"
-//! is the broad phase's mean over the steps after the first, which builds each side's structure
-//! from scratch.
+//! [--repeat K] [--split P]` (default N = 1000 10000 50000, S = 120, both scenes, K = 1). Each
+//! side runs K times, the two interleaved, and shows its run of median broad-phase time (timings
+//! on a shared machine drift by tens of percent between runs). Prints a markdown table; "after
+//! step 1" is the broad phase's mean over the steps after the first, which builds each side's
+//! structure from scratch. `--split P` adds a table of each side's broad-phase time in all over
+//! the steps before step P and from step P on (the rain: while it falls, and once it piles up).
 
 use kinetic_flight::Choice;
 use kinetic_rapier::KineticBroadPhase;
@@ -24,9 +25,11 @@ struct Row {
     np_ms: f64,
     pairs: f64,
     touching: f64,
+    /// Broad-phase ms in all over the steps before the split and from it on.
+    bp_parts: [f64; 2],
 }
 
-fn run(scene: RapierScene, bp: &mut dyn BroadPhase, steps: usize) -> Row {
+fn run(scene: RapierScene, bp: &mut dyn BroadPhase, steps: usize, split: usize) -> Row {
     let RapierScene {
         mut bodies,
         mut colliders,
@@ -57,6 +60,7 @@ fn run(scene: RapierScene, bp: &mut dyn BroadPhase, steps: usize) -> Row {
         );
         let bp = pipeline.counters.broad_phase_time_ms();
         row.bp_ms += bp;
+        row.bp_parts[usize::from(k >= split)] += bp;
         if k > 0 {
             row.bp_after_ms += bp;
         }
@@ -76,6 +80,7 @@ fn run(scene: RapierScene, bp: &mut dyn BroadPhase, steps: usize) -> Row {
         np_ms: row.np_ms / s,
         pairs: row.pairs / s,
         touching: row.touching / s,
+        bp_parts: row.bp_parts,
     }
 }
 
@@ -106,6 +111,7 @@ fn main() {
     let mut steps = 120;
     let mut only: Option<Vec<String>> = None;
     let mut repeat = 1;
+    let mut split: Option<usize> = None;
     let mut it = args.iter();
     while let Some(a) = it.next() {
         if a == "--steps" {
@@ -116,6 +122,12 @@ fn main() {
                 .and_then(|s| s.parse().ok())
                 .filter(|&k: &usize| k > 0)
                 .expect("--repeat K (K > 0)");
+        } else if a == "--split" {
+            split = Some(
+                it.next()
+                    .and_then(|s| s.parse().ok())
+                    .expect("--split P (a step)"),
+            );
         } else if a == "--scenes" {
             let list = it.next().expect("--scenes rain,debris");
             only = Some(list.split(',').map(str::to_string).collect());
@@ -133,6 +145,7 @@ fn main() {
         "| scene | n | broad phase | step ms | broad phase ms | after step 1 | narrow phase ms | pairs | touching | kinetic: structure, events/step, re-plans/step |"
     );
     println!("|---|---|---|---|---|---|---|---|---|---|");
+    let mut parts = Vec::new();
     for &n in &sizes {
         type Make = fn(usize) -> RapierScene;
         let scenes: [(&str, Make); 2] = [
@@ -145,9 +158,10 @@ fn main() {
             }
             let (mut ds, mut ks) = (Vec::new(), Vec::new());
             for _ in 0..repeat {
-                ds.push((run(make(n), &mut DefaultBroadPhase::new(), steps), ()));
+                let at = split.unwrap_or(steps);
+                ds.push((run(make(n), &mut DefaultBroadPhase::new(), steps, at), ()));
                 let mut kbp = kinetic();
-                ks.push((run(make(n), &mut kbp, steps), kbp));
+                ks.push((run(make(n), &mut kbp, steps, at), kbp));
             }
             let ((d, ()), (k, kbp)) = (median(ds), median(ks));
             let s = kbp.stats();
@@ -182,6 +196,32 @@ fn main() {
                 k.np_ms / d.np_ms,
                 k.pairs / d.pairs
             );
+            parts.push((name, n, d.bp_parts, k.bp_parts));
+        }
+    }
+    if let Some(p) = split {
+        println!(
+            "\nBroad-phase ms in all (the same runs), steps 0 to {} and {p} to {}:\n",
+            p.saturating_sub(1),
+            steps.saturating_sub(1)
+        );
+        println!("| scene | n | steps | default | kinetic | kinetic / default |");
+        println!("|---|---|---|---|---|---|");
+        for (name, n, d, k) in parts {
+            for (i, range) in [
+                format!("0-{}", p.saturating_sub(1)),
+                format!("{p}-{}", steps - 1),
+            ]
+            .iter()
+            .enumerate()
+            {
+                println!(
+                    "| {name} | {n} | {range} | {:.1} | {:.1} | {:.2}x |",
+                    d[i],
+                    k[i],
+                    k[i] / d[i]
+                );
+            }
         }
     }
 }
