@@ -210,7 +210,7 @@ fn main() {
         for (name, n, d, k) in parts {
             for (i, range) in [
                 format!("0-{}", p.saturating_sub(1)),
-                format!("{p}-{}", steps - 1),
+                format!("{p}-{}", steps.saturating_sub(1)),
             ]
             .iter()
             .enumerate()
