@@ -20,6 +20,11 @@
 //!   than one in 8, are big (cells sized by a lone first speck), the cells are sized afresh.
 //! - Horizon ([`LooseGrid::with_horizon`]): a region covers at most this much time of flight,
 //!   so a body drifting slowly holds a region close to its box.
+//! - Least flight ([`LooseGrid::with_least_flight`]): a region covers at least this much time
+//!   of flight, so a body that crosses its own width many times in that time (a shot fired
+//!   at 1e8 units per second) holds one long region per that time instead of one per two
+//!   widths: its re-anchors are bounded by the time it flies, not by how far it goes. A
+//!   region that long is big and sits in the big list.
 //!
 //! The candidates are a superset of the sweep's (boxes inside overlapping regions), so a
 //! caller that needs exact contacts certifies them itself. It suits bodies whose plans keep
@@ -67,8 +72,10 @@ struct Member {
 pub struct LooseGrid {
     travel: Real,
     margin: Real,
-    /// No region covers more than this much time of its object's flight.
+    /// No region covers more than this much time of its object's flight...
     horizon: Real,
+    /// ... nor less than this much (when it is shorter than the horizon).
+    least_flight: Real,
     /// The cells' side (set by the first objects' regions, their median width).
     cell: Option<Real>,
     /// The median box width of the first objects: no margin is wider than `margin` of it (a
@@ -116,6 +123,7 @@ impl LooseGrid {
             travel: travel.max(0.0),
             margin: margin.max(1e-6),
             horizon: Real::INFINITY,
+            least_flight: 0.0,
             cell: None,
             typical: Real::INFINITY,
             members: Vec::new(),
@@ -141,6 +149,17 @@ impl LooseGrid {
     pub fn with_horizon(mut self, horizon: Real) -> LooseGrid {
         if horizon > 0.0 {
             self.horizon = horizon;
+        }
+        self
+    }
+
+    /// The same loose grid whose regions cover at least `flight` time units of flight (up to
+    /// the horizon): a body fast enough to travel the default reach many times over in that
+    /// time is re-anchored once per `flight` instead of once per two box widths, whatever
+    /// its speed. A broad phase stepping by `dt` passes `dt`.
+    pub fn with_least_flight(mut self, flight: Real) -> LooseGrid {
+        if flight > 0.0 && flight.is_finite() {
+            self.least_flight = flight;
         }
         self
     }
@@ -184,6 +203,7 @@ impl LooseGrid {
         } else {
             0.0
         }
+        .max(self.least_flight)
         .min(self.horizon);
         let keys = Self::box_keys(bodies, id, now);
         // A margin of a few float spacings at least, so that a point object leaves after now.

@@ -260,3 +260,58 @@ fn a_horizon_keeps_a_slow_bodys_region_close_to_its_box() {
     let w = slow(LooseGrid::new().with_horizon(10.0));
     assert!((w - 3.1).abs() < 1e-6, "{w}");
 }
+
+#[test]
+fn a_shot_far_faster_than_its_width_is_reanchored_once_per_least_flight() {
+    // A ball of radius 0.5 at 1e4 units per time unit along a row of 20 resting balls
+    // 3 apart (x = 0 to 57): it crosses its own width 1e4 times per time unit.
+    let shot = |grid: LooseGrid| {
+        let mut bodies: Vec<Option<Body>> = (0..20)
+            .map(|i| {
+                Some(Body {
+                    shape: Shape::Ball { radius: 0.5 },
+                    plan: FlightPlan::at_rest(Vec3::new(3.0 * i as f64, 0.0, 0.0)),
+                })
+            })
+            .collect();
+        bodies.push(Some(Body {
+            shape: Shape::Ball { radius: 0.5 },
+            plan: FlightPlan::linear(Vec3::new(-100.0, 0.0, 0.0), Vec3::new(1e4, 0.0, 0.0)),
+        }));
+        let ids: Vec<u32> = (0..21).collect();
+        let mut d = Driven::new(grid);
+        d.grid.insert_many(&ids, &bodies, 0.0, &mut d.changes);
+        d.absorb();
+        // Steps of 0.01 (100 units of flight each); within the second, where the shot
+        // passes the row, the candidates are checked every 0.1 units of its flight.
+        let mut per_step = Vec::new();
+        for step in 1..=20 {
+            let end = step as f64 * 0.01;
+            let mut events = 0;
+            if step == 2 {
+                for k in 1..=1000 {
+                    let t = 0.01 + k as f64 * 1e-5;
+                    events += d.advance(&bodies, t);
+                    check(&d, &bodies, t);
+                }
+            }
+            events += d.advance(&bodies, end);
+            check(&d, &bodies, end);
+            per_step.push(events);
+        }
+        per_step
+    };
+    let bounded = shot(LooseGrid::new().with_horizon(0.04).with_least_flight(0.01));
+    assert!(
+        bounded.iter().all(|&e| e <= 2),
+        "events per step {bounded:?}"
+    );
+    // Without the floor the shot is re-anchored every 2 widths of its flight: about 50 times
+    // in each step of 100 units.
+    let unbounded = shot(LooseGrid::new().with_horizon(0.04));
+    println!("events per step: {bounded:?} with the floor, {unbounded:?} without");
+    assert!(
+        unbounded.iter().skip(2).all(|&e| e >= 40),
+        "events per step {unbounded:?}"
+    );
+}

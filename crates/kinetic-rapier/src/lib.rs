@@ -603,7 +603,12 @@ impl KineticBroadPhase {
                 Choice::Guards => Box::new(Guards::new(1.0)),
                 Choice::Grid => Box::new(Grid::new()),
                 Choice::Loose => {
-                    Box::new(LooseGrid::new().with_horizon(REGION_STEPS * params.dt as Real))
+                    let dt = params.dt as Real;
+                    Box::new(
+                        LooseGrid::new()
+                            .with_horizon(REGION_STEPS * dt)
+                            .with_least_flight(dt),
+                    )
                 }
             });
         }
