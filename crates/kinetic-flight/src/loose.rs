@@ -24,7 +24,7 @@
 //!   of flight, so a body that crosses its own width many times in that time (a shot fired
 //!   at 1e8 units per second) holds one long region per that time instead of one per two
 //!   widths: its re-anchors are bounded by the time it flies, not by how far it goes. A
-//!   region that long is big and sits in the big list.
+//!   region more than 8 cells long is big and sits in the big list.
 //!
 //! The candidates are a superset of the sweep's (boxes inside overlapping regions), so a
 //! caller that needs exact contacts certifies them itself. It suits bodies whose plans keep
