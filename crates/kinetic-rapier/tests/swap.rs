@@ -344,7 +344,8 @@ fn a_shot_at_any_speed_costs_the_structure_an_event_a_step_and_meets_the_row_in_
                 colliders.insert_with_parent(ColliderBuilder::ball(0.2), h, &mut bodies)
             })
             .collect();
-        // It crosses the row during step 1 (from x = -0.5 to 1.5 steps of flight).
+        // It starts 1.5 steps of flight short of the row and crosses it during step 1 (from
+        // x = -0.5 to 0.5 steps of flight).
         let step_len = speed / 60.0;
         let h = bodies.insert(
             RigidBodyBuilder::dynamic()
