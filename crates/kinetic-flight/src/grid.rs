@@ -73,6 +73,15 @@ const MAX_WIDEN: Real = 64.0;
 /// The fewest objects of a level whose spread widens its cells.
 const WIDEN_MIN_OBJECTS: usize = 32;
 
+/// With a least flight ([`Grid::with_least_flight`]), an object whose box would travel more
+/// than this many of its own level's cells on an axis within that flight is fast...
+const FAST_SPAN: Real = 8.0;
+/// ... and a fast one stays fast until that travel is under this many.
+const SLOW_SPAN: Real = 4.0;
+/// A fast object's region is wider than the box it sweeps by this many box widths on every
+/// side.
+const FAST_MARGIN: Real = 0.25;
+
 /// A cell: its level and integer coordinates.
 type CellKey = (i32, i64, i64, i64);
 
@@ -108,6 +117,45 @@ pub(crate) fn crossing(c: Local, g: Real, to: i8, now: Real) -> Real {
         .map_or(Real::INFINITY, |(tau, _)| now + tau)
 }
 
+/// The box that a box sweeps over local times `0..=h`, widened by `margin` on every side; its
+/// ends are `keys` (per axis, the lower and the upper end as polynomials in local time).
+pub(crate) fn swept_box(keys: &[(Local, Local); 3], h: Real, margin: Real) -> (Vec3, Vec3) {
+    let eval = |c: Local, t: Real| c[0] + (c[1] + c[2] * t) * t;
+    let (mut lo, mut hi) = (Vec3::ZERO, Vec3::ZERO);
+    for (k, (l, u)) in keys.iter().enumerate() {
+        // The extremes over [0, h]: at its ends, or where the axis turns.
+        let turn = if l[2] != 0.0 {
+            -l[1] / (2.0 * l[2])
+        } else {
+            0.0
+        };
+        let ts = [0.0, h, if turn > 0.0 && turn < h { turn } else { 0.0 }];
+        let lmin = ts
+            .iter()
+            .map(|&t| eval(*l, t))
+            .fold(Real::INFINITY, Real::min);
+        let umax = ts
+            .iter()
+            .map(|&t| eval(*u, t))
+            .fold(Real::NEG_INFINITY, Real::max);
+        lo[k] = lmin - margin;
+        hi[k] = umax + margin;
+    }
+    (lo, hi)
+}
+
+/// When the box with ends `keys` (around `now`) first leaves the region `lo..hi` after
+/// `now` (`now` if it is outside already or leaving).
+pub(crate) fn exit_from(keys: &[(Local, Local); 3], lo: Vec3, hi: Vec3, now: Real) -> Real {
+    let mut t = Real::INFINITY;
+    for (k, (l, u)) in keys.iter().enumerate() {
+        t = t
+            .min(crossing(*l, lo[k], -1, now))
+            .min(crossing(*u, hi[k], 1, now));
+    }
+    t
+}
+
 /// The finest cells and the ratio between levels for objects of widths `w`: the smallest
 /// width, and the power of two that spreads the middle 98% of the widths over about
 /// [`BULK_LEVELS`] levels (at most [`MAX_RATIO`]). `None` without a positive finite width.
@@ -123,6 +171,16 @@ pub(crate) fn levels_for(w: impl Iterator<Item = Real>) -> Option<(Real, Real)> 
         .powf((octaves / BULK_LEVELS).ceil().max(1.0))
         .min(MAX_RATIO);
     Some((w[0], ratio))
+}
+
+/// Whether two zones (closed boxes, lower and upper corners) meet, give or take rounding.
+fn zones_meet(a: (Vec3, Vec3), b: (Vec3, Vec3)) -> bool {
+    (0..3).all(|k| {
+        let tol = (1e-9 * ((a.1[k] - a.0[k]) + (b.1[k] - b.0[k]))
+            + 1e-12 * (a.0[k].abs() + b.0[k].abs()))
+        .max(0.0);
+        a.0[k] <= b.1[k] + tol && b.0[k] <= a.1[k] + tol
+    })
 }
 
 /// The sign of `c` just after local time 0.
@@ -174,6 +232,9 @@ struct Member {
     tracks: Vec<Track>,
     /// Its grid pairs' slots.
     pairs: Vec<u32>,
+    /// A fast object's region (it then has no tracks and is in no cell): the box its box
+    /// sweeps over the least flight, widened by [`FAST_MARGIN`] of its width.
+    region: Option<(Vec3, Vec3)>,
 }
 
 /// A cell's objects: those living at its level, and visitors from below.
@@ -308,12 +369,32 @@ pub struct Grid {
     crossings: u64,
     pair_events: u64,
     scratch: Vec<u32>,
+    /// The least flight: 0 for none (no object is ever fast).
+    least_flight: Real,
+    /// The fast objects.
+    fast: Vec<u32>,
+    fast_anchors: u64,
 }
 
 impl Grid {
     /// An empty grid; its finest cells are sized by the first objects.
     pub fn new() -> Grid {
         Grid::default()
+    }
+
+    /// The same grid with fast objects kept out of its cells. An object whose box would cross
+    /// more than 8 of its level's cells on an axis within `flight` time units holds a region
+    /// instead: the box its box sweeps over `flight`, widened by a quarter of its width. Its
+    /// grid pairs are the objects whose regions or own-level cells meet that region, found
+    /// again when its box reaches the region's edge. So a shot fired at any speed costs about
+    /// one event per `flight` and the box events of what it passes, where in the cells it
+    /// would cost one event per cell crossed. It turns back into a cell dweller once it
+    /// would cross fewer than 4 cells. A broad phase stepping by `dt` passes `dt`.
+    pub fn with_least_flight(mut self, flight: Real) -> Grid {
+        if flight > 0.0 && flight.is_finite() {
+            self.least_flight = flight;
+        }
+        self
     }
 
     /// Number of overlapping box pairs (the candidates).
@@ -408,6 +489,188 @@ impl Grid {
             hi: std::array::from_fn(|k| ScalarKey::from_plan(plan, k, hi[k])),
             tracks: Vec::new(),
             pairs: Vec::new(),
+            region: None,
+        }
+    }
+
+    /// The ends of the box of `m` around `now`, per axis.
+    fn keys_of(m: &Member, now: Real) -> [(Local, Local); 3] {
+        std::array::from_fn(|k| (m.lo[k].local(now), m.hi[k].local(now)))
+    }
+
+    /// Whether `m` at `now` travels more than `span` of its own level's cells on an axis
+    /// within the least flight (never without one).
+    fn is_fast(&self, m: &Member, now: Real, span: Real) -> bool {
+        if self.least_flight <= 0.0 {
+            return false;
+        }
+        let h = self.least_flight;
+        let travel = (0..3)
+            .map(|k| {
+                let c = m.lo[k].local(now);
+                c[1].abs() * h + c[2].abs() * h * h
+            })
+            .fold(0.0, Real::max);
+        travel > span * self.cell_size(m.level)
+    }
+
+    /// Where member `id` may be: a fast one's region, else the cells of its own track.
+    fn zone(&self, id: u32) -> (Vec3, Vec3) {
+        let m = self.member(id);
+        if let Some(region) = m.region {
+            return region;
+        }
+        let t = &m.tracks[0];
+        let s = self.cell_size(t.level);
+        let lo = Vec3::from_array(std::array::from_fn(|k| s * t.cells[k][0] as Real));
+        let hi = Vec3::from_array(std::array::from_fn(|k| s * (t.cells[k][1] + 1) as Real));
+        (lo, hi)
+    }
+
+    /// Whether fast member `f` and member `x` are a grid pair: their zones meet.
+    fn fast_pair(&self, f: u32, x: u32) -> bool {
+        zones_meet(self.zone(f), self.zone(x))
+    }
+
+    /// Gives fast member `id` (no tracks, in no cell) a fresh region from `now`, makes its
+    /// grid pairs those whose zones meet it (reporting the changes) and schedules its exit.
+    fn anchor_fast(&mut self, id: u32, now: Real, changes: &mut Vec<PairChange>) {
+        self.fast_anchors += 1;
+        let m = self.member(id);
+        let keys = Self::keys_of(m, now);
+        let scale = keys
+            .iter()
+            .map(|(l, u)| l[0].abs().max(u[0].abs()))
+            .fold(0.0, Real::max)
+            + m.width;
+        let margin = (FAST_MARGIN * m.width)
+            .max(1e-9 * scale)
+            .max(Real::MIN_POSITIVE);
+        let (lo, hi) = swept_box(&keys, self.least_flight, margin);
+        let exit = exit_from(&keys, lo, hi, now);
+        self.members[id as usize].as_mut().expect("a member").region = Some((lo, hi));
+        let want = self.fast_partners(id, lo, hi);
+        let m = self.member(id);
+        let mut have: Vec<u32> = m
+            .pairs
+            .iter()
+            .map(|&i| {
+                let slot = self.slots[i as usize].as_ref().expect("a slot");
+                if slot.a == id { slot.b } else { slot.a }
+            })
+            .collect();
+        have.sort_unstable();
+        for &p in &have {
+            if want.binary_search(&p).is_err() {
+                self.pair_down(id, p, changes);
+            }
+        }
+        for &p in &want {
+            if have.binary_search(&p).is_err() {
+                self.pair_up(id, p, now, changes);
+            }
+        }
+        if exit.is_finite() {
+            self.crossings_queue.schedule(id, exit, 0);
+        } else {
+            self.crossings_queue.remove(id);
+        }
+    }
+
+    /// The members whose zones meet the region `lo..hi` of fast member `id`, sorted: the
+    /// other fast ones, and the owners of the cells around it at every occupied level.
+    fn fast_partners(&self, id: u32, lo: Vec3, hi: Vec3) -> Vec<u32> {
+        let mut out: Vec<u32> = self
+            .fast
+            .iter()
+            .copied()
+            .filter(|&f| f != id && zones_meet(self.zone(f), (lo, hi)))
+            .collect();
+        let mut owners = Vec::new();
+        // Levels whose cells around the region outnumber the cells kept are read from the
+        // whole table instead, once.
+        let mut whole = Vec::new();
+        for &level in &self.occupied {
+            let s = self.cell_size(level);
+            // One cell more on every side, so that a cell whose edge the region touches is
+            // read however the division rounds.
+            let range: [[i64; 2]; 3] = std::array::from_fn(|k| {
+                [
+                    ((lo[k] / s).floor() as i64).saturating_sub(1),
+                    ((hi[k] / s).floor() as i64).saturating_add(1),
+                ]
+            });
+            let count: Real = range
+                .iter()
+                .map(|[a, b]| *b as Real - *a as Real + 1.0)
+                .product();
+            if count > self.cells.len() as Real {
+                whole.push((level, range));
+                continue;
+            }
+            for x in range[0][0]..=range[0][1] {
+                for y in range[1][0]..=range[1][1] {
+                    for z in range[2][0]..=range[2][1] {
+                        if let Some(cell) = self.cells.get(&(level, x, y, z)) {
+                            owners.extend_from_slice(&cell.owners);
+                        }
+                    }
+                }
+            }
+        }
+        if !whole.is_empty() {
+            for (key, cell) in &self.cells {
+                let within = whole.iter().any(|(level, r)| {
+                    *level == key.0
+                        && [key.1, key.2, key.3]
+                            .iter()
+                            .zip(r)
+                            .all(|(c, [a, b])| a <= c && c <= b)
+                });
+                if within {
+                    owners.extend_from_slice(&cell.owners);
+                }
+            }
+        }
+        owners.sort_unstable();
+        owners.dedup();
+        out.extend(
+            owners
+                .into_iter()
+                .filter(|&x| x != id && zones_meet(self.zone(x), (lo, hi))),
+        );
+        out.sort_unstable();
+        out
+    }
+
+    /// Makes the grid pairs of member `id`, which lives in cells, with the fast members those
+    /// whose regions meet its own-level cells (after its own track changed).
+    fn fast_links(&mut self, id: u32, now: Real, changes: &mut Vec<PairChange>) {
+        for i in 0..self.fast.len() {
+            let f = self.fast[i];
+            let want = self.fast_pair(f, id);
+            let have = self.pair_of.contains_key(&(f.min(id), f.max(id)));
+            if want && !have {
+                self.pair_up(f, id, now, changes);
+            } else if have && !want {
+                self.pair_down(f, id, changes);
+            }
+        }
+    }
+
+    /// Puts member `id` (in `members`, with no tracks, region or pairs) into the grid: fast,
+    /// with a region, or into the cells of its levels.
+    fn settle(&mut self, id: u32, now: Real, changes: &mut Vec<PairChange>) {
+        let m = self.member(id);
+        if self.is_fast(m, now, FAST_SPAN) {
+            self.fast.push(id);
+            self.anchor_fast(id, now, changes);
+        } else {
+            // Out of the members while its level fills, or it would visit there itself.
+            let m = self.members[id as usize].take().expect("a member");
+            self.occupy(m.level, now, changes);
+            self.members[id as usize] = Some(m);
+            self.place(id, now, changes);
         }
     }
 
@@ -762,12 +1025,19 @@ impl Grid {
             }
         }
         self.schedule_member(id);
+        self.fast_links(id, now, changes);
     }
 
-    /// Takes member `id` out of every cell (its pairs go) and out of the queue.
+    /// Takes member `id` out of every cell or out of the fast ones (all its pairs go) and
+    /// out of the queue: it is left with no tracks and no region.
     fn unplace(&mut self, id: u32, changes: &mut Vec<PairChange>) {
-        let m = self.members[id as usize].as_ref().expect("a member");
-        let (level, tracks) = (m.level, m.tracks.clone());
+        let m = self.members[id as usize].as_mut().expect("a member");
+        let (level, tracks) = (m.level, std::mem::take(&mut m.tracks));
+        if m.region.take().is_some()
+            && let Some(i) = self.fast.iter().position(|&x| x == id)
+        {
+            self.fast.swap_remove(i);
+        }
         let mut keys = Vec::new();
         for track in &tracks {
             Self::cells_of(track, None, &mut keys);
@@ -775,10 +1045,34 @@ impl Grid {
                 self.leave(id, key, track.level == level, changes);
             }
         }
+        // What is left are pairs with fast members, or a fast member's own.
+        for i in self.member(id).pairs.clone() {
+            let slot = self.slots[i as usize].as_ref().expect("a slot");
+            let other = if slot.a == id { slot.b } else { slot.a };
+            self.pair_down(id, other, changes);
+        }
         self.crossings_queue.remove(id);
     }
 
     fn process_crossing(&mut self, id: u32, now: Real, changes: &mut Vec<PairChange>) {
+        let m = self.member(id);
+        if m.region.is_some() {
+            // A fast member's box reached its region's edge: a new region, or back into the
+            // cells once it is slow.
+            if self.is_fast(m, now, SLOW_SPAN) {
+                self.anchor_fast(id, now, changes);
+            } else {
+                self.unplace(id, changes);
+                self.settle(id, now, changes);
+            }
+            return;
+        }
+        if self.is_fast(m, now, FAST_SPAN) {
+            // Sped up (an accelerated plan): out of the cells.
+            self.unplace(id, changes);
+            self.settle(id, now, changes);
+            return;
+        }
         self.crossings += 1;
         let m = self.member(id);
         // The due certificate: its track, axis and kind.
@@ -856,8 +1150,20 @@ impl Grid {
                 }
                 self.members[id as usize].as_mut().expect("a member").tracks[tj] = t;
             }
+            self.fast_links(id, now, changes);
         }
         self.schedule_member(id);
+    }
+
+    /// Certifies every grid pair of member `id` afresh (after its plan changed).
+    fn recertify_pairs(&mut self, id: u32, now: Real, changes: &mut Vec<PairChange>) {
+        for i in self.member(id).pairs.clone() {
+            let mut slot = self.slots[i as usize].take().expect("a slot");
+            self.certify_pair(&mut slot, now, [true; 3]);
+            self.slots[i as usize] = Some(slot);
+            self.schedule_slot(i);
+            self.report(i, changes);
+        }
     }
 
     fn process_pair(&mut self, i: u32, now: Real, changes: &mut Vec<PairChange>) {
@@ -909,6 +1215,7 @@ impl CandidateStructure for Grid {
         }
         self.widen_for(ids, bodies, now);
         let mut fresh = Vec::with_capacity(ids.len());
+        let mut fast = Vec::new();
         for &id in ids {
             if self.present(id) {
                 continue;
@@ -916,6 +1223,11 @@ impl CandidateStructure for Grid {
             let m = self.make_member(bodies, id);
             if self.members.len() <= id as usize {
                 self.members.resize(id as usize + 1, None);
+            }
+            if self.is_fast(&m, now, FAST_SPAN) {
+                self.members[id as usize] = Some(m);
+                fast.push(id);
+                continue;
             }
             // Levels first, so that the visitors are in place when the owners come.
             self.occupy(m.level, now, changes);
@@ -933,6 +1245,10 @@ impl CandidateStructure for Grid {
         for id in fresh {
             self.place(id, now, changes);
         }
+        for id in fast {
+            self.fast.push(id);
+            self.anchor_fast(id, now, changes);
+        }
     }
 
     fn remove(&mut self, id: u32, _: &Bodies, _: Real, changes: &mut Vec<PairChange>) {
@@ -948,15 +1264,25 @@ impl CandidateStructure for Grid {
             return;
         }
         let new = self.make_member(bodies, id);
-        if new.level != self.member(id).level {
-            // A new box size: placed afresh.
+        let was_fast = self.member(id).region.is_some();
+        let fast = self.is_fast(&new, now, if was_fast { SLOW_SPAN } else { FAST_SPAN });
+        if was_fast && fast {
+            // Still fast: a new region, and its pairs certified on the new plan.
+            let m = self.members[id as usize].as_mut().expect("a member");
+            (m.lo, m.hi, m.width, m.level) = (new.lo, new.hi, new.width, new.level);
+            self.anchor_fast(id, now, changes);
+            self.recertify_pairs(id, now, changes);
+            return;
+        }
+        if was_fast || fast || new.level != self.member(id).level {
+            // A new box size, or into or out of the cells: placed afresh.
             self.unplace(id, changes);
-            // Out of the members while its new level fills, or it would visit there itself.
-            let pairs = self.members[id as usize].take().expect("a member").pairs;
+            let pairs = self.members[id as usize]
+                .replace(new)
+                .expect("a member")
+                .pairs;
             debug_assert!(pairs.is_empty(), "unplaced with pairs left");
-            self.occupy(new.level, now, changes);
-            self.members[id as usize] = Some(new);
-            self.place(id, now, changes);
+            self.settle(id, now, changes);
             return;
         }
         let m = self.members[id as usize].as_mut().expect("a member");
@@ -988,13 +1314,8 @@ impl CandidateStructure for Grid {
             self.members[id as usize].as_mut().expect("a member").tracks[ti] = track;
         }
         self.schedule_member(id);
-        for i in self.member(id).pairs.clone() {
-            let mut slot = self.slots[i as usize].take().expect("a slot");
-            self.certify_pair(&mut slot, now, [true; 3]);
-            self.slots[i as usize] = Some(slot);
-            self.schedule_slot(i);
-            self.report(i, changes);
-        }
+        self.fast_links(id, now, changes);
+        self.recertify_pairs(id, now, changes);
     }
 
     fn next_event_time(&self) -> Real {
@@ -1025,7 +1346,8 @@ impl CandidateStructure for Grid {
             .flatten()
             .map(|m| m.tracks.iter().filter(|t| t.shift.is_none()).count())
             .sum();
-        4 * 3 * tracks + 3 * self.pair_of.len()
+        // A fast member's certificate is its box inside its region: a face each.
+        4 * 3 * tracks + 6 * self.fast.len() + 3 * self.pair_of.len()
     }
 
     fn counters(&self) -> Vec<(&'static str, f64)> {
@@ -1045,6 +1367,8 @@ impl CandidateStructure for Grid {
             ("level_ratio", self.ratio()),
             ("crossings", self.crossings as f64),
             ("box_events", self.pair_events as f64),
+            ("fast", self.fast.len() as f64),
+            ("fast_anchors", self.fast_anchors as f64),
         ]
     }
 
@@ -1079,6 +1403,29 @@ impl CandidateStructure for Grid {
                     "grid: object {id} at level {}, box says {}",
                     m.level, want.level
                 ));
+            }
+            let listed_fast = self.fast.iter().filter(|&&f| f == id).count();
+            if let Some((rlo, rhi)) = m.region {
+                if listed_fast != 1 || !m.tracks.is_empty() {
+                    return Err(format!(
+                        "grid: fast object {id} listed {listed_fast} times, with {} tracks",
+                        m.tracks.len()
+                    ));
+                }
+                for k in 0..3 {
+                    let (lo, hi) = (at(&m.lo[k]), at(&m.hi[k]));
+                    let tol = 1e-9 * (m.width + lo.abs() + hi.abs());
+                    if lo < rlo[k] - tol || hi > rhi[k] + tol {
+                        return Err(format!(
+                            "grid: fast object {id} axis {k}: box [{lo}, {hi}] out of its region [{}, {}]",
+                            rlo[k], rhi[k]
+                        ));
+                    }
+                }
+                continue;
+            }
+            if listed_fast != 0 {
+                return Err(format!("grid: object {id} in cells but listed fast"));
             }
             let levels: Vec<i32> = self.occupied.range(m.level..).copied().collect();
             let have: Vec<i32> = m.tracks.iter().map(|t| t.level).collect();
@@ -1143,6 +1490,21 @@ impl CandidateStructure for Grid {
             for (i, &x) in cell.owners.iter().enumerate() {
                 for &y in cell.owners[i + 1..].iter().chain(cell.visitors.iter()) {
                     *want.entry((x.min(y), x.max(y))).or_default() += 1;
+                }
+            }
+        }
+        // A fast member pairs with every member whose zone meets its region, once.
+        for &f in &self.fast {
+            for (x, m) in self.members.iter().enumerate() {
+                let x = x as u32;
+                if m.is_none()
+                    || x == f
+                    || (m.as_ref().is_some_and(|m| m.region.is_some()) && x < f)
+                {
+                    continue;
+                }
+                if self.fast_pair(f, x) {
+                    *want.entry((x.min(f), x.max(f))).or_default() += 1;
                 }
             }
         }

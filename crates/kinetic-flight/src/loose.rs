@@ -31,7 +31,7 @@
 //! failing (a settling pile) and crowds that fall together, where a structure of exact box
 //! pairs pays for every box event and re-plan with certificates of all its neighbours.
 
-use crate::grid::{Local, crossing};
+use crate::grid::{Local, exit_from, swept_box};
 use crate::sweep::{box_ends, box_width};
 use kinetic_core::{Bodies, CandidateStructure, EventQueue, PairChange, Real, ScalarKey, Vec3};
 use rustc_hash::FxHashMap;
@@ -211,41 +211,13 @@ impl LooseGrid {
         let m = (self.margin * w.min(self.typical))
             .max(1e-9 * scale)
             .max(Real::MIN_POSITIVE);
-        let eval = |c: Local, t: Real| c[0] + (c[1] + c[2] * t) * t;
-        let (mut rlo, mut rhi) = (Vec3::ZERO, Vec3::ZERO);
-        for (k, (l, u)) in keys.iter().enumerate() {
-            // The extremes over [0, h]: at its ends, or where the axis turns.
-            let turn = if l[2] != 0.0 {
-                -l[1] / (2.0 * l[2])
-            } else {
-                0.0
-            };
-            let ts = [0.0, h, if turn > 0.0 && turn < h { turn } else { 0.0 }];
-            let lmin = ts
-                .iter()
-                .map(|&t| eval(*l, t))
-                .fold(Real::INFINITY, Real::min);
-            let umax = ts
-                .iter()
-                .map(|&t| eval(*u, t))
-                .fold(Real::NEG_INFINITY, Real::max);
-            rlo[k] = lmin - m;
-            rhi[k] = umax + m;
-        }
-        (rlo, rhi)
+        swept_box(&keys, h, m)
     }
 
     /// When object `id`'s box, on its plan, first leaves the region `lo..hi` after `now`
     /// (`now` if it is outside already or leaving).
     fn exit_time(bodies: &Bodies, id: u32, lo: Vec3, hi: Vec3, now: Real) -> Real {
-        let keys = Self::box_keys(bodies, id, now);
-        let mut t = Real::INFINITY;
-        for (k, (l, u)) in keys.iter().enumerate() {
-            t = t
-                .min(crossing(*l, lo[k], -1, now))
-                .min(crossing(*u, hi[k], 1, now));
-        }
-        t
+        exit_from(&Self::box_keys(bodies, id, now), lo, hi, now)
     }
 
     /// The cells the region `lo..hi` covers, per axis the first and last index; `None` when

@@ -228,3 +228,199 @@ fn a_pair_apart_on_one_axis_watches_that_axis_alone() {
     assert_eq!(crossing, 2.0);
     assert_eq!(seen, BTreeSet::from([(0, 1)]));
 }
+
+/// The grid's counter `name`.
+fn counter(d: &Driven, name: &str) -> f64 {
+    d.grid
+        .counters()
+        .into_iter()
+        .find(|c| c.0 == name)
+        .unwrap_or_else(|| panic!("no counter {name}"))
+        .1
+}
+
+#[test]
+fn a_shot_far_faster_than_its_cells_holds_a_region_a_step_and_meets_the_row_in_its_path() {
+    // A ball of radius 0.5 at 1e4 units per time unit along a row of 20 resting balls 3 apart
+    // (x = 0 to 57), with a few larger balls beside the row (a second level): in a step of
+    // 0.01 it crosses 100 of its cells.
+    let shot = |grid: Grid| {
+        let mut bodies: Vec<Option<Body>> = (0..20)
+            .map(|i| {
+                Some(Body {
+                    shape: Shape::Ball { radius: 0.5 },
+                    plan: FlightPlan::at_rest(Vec3::new(3.0 * i as f64, 0.0, 0.0)),
+                })
+            })
+            .collect();
+        for i in 0..4 {
+            bodies.push(Some(Body {
+                shape: Shape::Ball { radius: 4.0 },
+                plan: FlightPlan::at_rest(Vec3::new(20.0 * i as f64, 4.2, 0.0)),
+            }));
+        }
+        bodies.push(Some(Body {
+            shape: Shape::Ball { radius: 0.5 },
+            plan: FlightPlan::linear(Vec3::new(-100.0, 0.0, 0.0), Vec3::new(1e4, 0.0, 0.0)),
+        }));
+        let ids: Vec<u32> = (0..bodies.len() as u32).collect();
+        let mut d = Driven::new(grid);
+        d.grid.insert_many(&ids, &bodies, 0.0, &mut d.changes);
+        d.absorb();
+        d.grid.validate(&bodies, 0.0).unwrap();
+        // Within the second step, where the shot passes the row, the candidates are checked
+        // every 0.1 units of its flight.
+        let mut per_step = Vec::new();
+        let mut met = BTreeSet::new();
+        for step in 1..=20 {
+            let end = step as f64 * 0.01;
+            let mut events = 0;
+            if step == 2 {
+                for k in 1..=1000 {
+                    let t = 0.01 + k as f64 * 1e-5;
+                    events += d.advance(&bodies, t);
+                    check_against_boxes(&d, &bodies, t);
+                    met.extend(d.candidates().into_iter().filter(|p| p.1 == 24));
+                }
+            }
+            events += d.advance(&bodies, end);
+            check_against_boxes(&d, &bodies, end);
+            per_step.push(events);
+        }
+        (per_step, met.len(), counter(&d, "crossings"))
+    };
+    let (bounded, met, crossings) = shot(Grid::new().with_least_flight(0.01));
+    println!("with the floor: events per step {bounded:?}, {crossings} crossings");
+    // The 20 row balls and the 4 large ones, whose boxes reach down to y = 0.2.
+    assert_eq!(met, 24);
+    // A region a step (one event), and in the step that passes the row the box events of the
+    // 24 balls it meets: each in and out on x, its witness axis (at most 2 more each).
+    assert!(bounded[0] <= 2, "events per step {bounded:?}");
+    assert!(bounded[1] <= 2 + 4 * 24, "events per step {bounded:?}");
+    assert!(bounded[2..].iter().all(|&e| e <= 2), "{bounded:?}");
+    assert_eq!(crossings, 0.0);
+    // Without the floor the shot crosses about 100 cells a step at its own level (and the
+    // coarser level's cells).
+    let (unbounded, met, crossings) = shot(Grid::new());
+    println!("without: events per step {unbounded:?}, {crossings} crossings");
+    assert_eq!(met, 24);
+    assert!(unbounded[2..].iter().all(|&e| e >= 100), "{unbounded:?}");
+}
+
+#[test]
+fn fast_bodies_leave_the_cells_and_come_back_through_replans_and_acceleration() {
+    // 200 small balls drifting, 6 large ones, 8 shots aimed through the crowd far faster than
+    // their cells, and 6 balls that start at rest under a strong acceleration (fast within a
+    // few steps): every event audited, the candidates checked against the box pairs 25
+    // times a step, through re-plans that bring shots back slowly (into the cells) and fire
+    // resting or drifting balls off (out of them), and removals.
+    let mut rng = ChaCha8Rng::seed_from_u64(23);
+    let mut bodies: Vec<Option<Body>> = Vec::new();
+    let random_v = |rng: &mut ChaCha8Rng, speed: f64| {
+        Vec3::new(
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+        ) * speed
+    };
+    let in_crowd = |rng: &mut ChaCha8Rng| {
+        Vec3::new(
+            rng.random_range(-10.0..10.0),
+            rng.random_range(-10.0..10.0),
+            rng.random_range(-10.0..10.0),
+        )
+    };
+    const SHOT: f64 = 4000.0;
+    for k in 0..220 {
+        let r = match k {
+            0..200 => rng.random_range(0.1..0.2),
+            200..206 => rng.random_range(2.0..3.0),
+            _ => rng.random_range(0.1..0.3),
+        };
+        let p = in_crowd(&mut rng);
+        let plan = match k {
+            0..206 => FlightPlan::linear(p, random_v(&mut rng, 1.0)),
+            206..214 => {
+                // From 25 to 45 units out, through a point of the crowd.
+                let from = p + random_v(&mut rng, 1.0).normalize() * rng.random_range(25.0..45.0);
+                FlightPlan::linear(from, (p - from).normalize() * SHOT)
+            }
+            _ => FlightPlan::accelerated(p, Vec3::ZERO, random_v(&mut rng, 20000.0)),
+        };
+        bodies.push(Some(Body {
+            shape: Shape::Ball { radius: r },
+            plan,
+        }));
+    }
+    let mut d = Driven::new(Grid::new().with_least_flight(0.05));
+    let ids: Vec<u32> = (0..bodies.len() as u32).collect();
+    d.grid.insert_many(&ids, &bodies, 0.0, &mut d.changes);
+    d.absorb();
+    d.grid.validate(&bodies, 0.0).unwrap();
+    check_against_boxes(&d, &bodies, 0.0);
+    let fast_at_start = counter(&d, "fast");
+    let (mut most_fast, mut fewest_fast) = (fast_at_start, fast_at_start);
+    let mut met_fast = BTreeSet::new();
+    let mut slowed = 0;
+    for step in 1..=60 {
+        for k in 1..=25 {
+            let t = (step - 1) as f64 * 0.02 + k as f64 * 0.0008;
+            d.advance(&bodies, t);
+            check_against_boxes(&d, &bodies, t);
+            // Pairs with a body fired off (a shot, or a ball re-planned fast).
+            met_fast.extend(d.candidates().into_iter().filter(|&(a, b)| {
+                [a, b].iter().any(|&x| {
+                    bodies[x as usize]
+                        .as_ref()
+                        .is_some_and(|b| b.plan.velocity_at(t).length() > 100.0)
+                })
+            }));
+        }
+        let t = step as f64 * 0.02;
+        let fast = counter(&d, "fast");
+        (most_fast, fewest_fast) = (most_fast.max(fast), fewest_fast.min(fast));
+        if step % 3 == 0 {
+            // A body moving fast is brought back into the crowd slowly; any other is fired
+            // off at the shots' speed.
+            for _ in 0..8 {
+                let id = rng.random_range(0..bodies.len());
+                let Some(body) = bodies[id].as_mut() else {
+                    continue;
+                };
+                body.plan = if body.plan.velocity_at(t).length() > 100.0 {
+                    slowed += 1;
+                    let mut plan = FlightPlan::linear(in_crowd(&mut rng), random_v(&mut rng, 1.0));
+                    plan.t0 = t;
+                    plan
+                } else {
+                    body.plan
+                        .replanned(t, random_v(&mut rng, 1.0).normalize() * SHOT)
+                };
+                d.grid.replan(id as u32, &bodies, t, &mut d.changes);
+                d.absorb();
+                d.grid.validate(&bodies, t).unwrap();
+            }
+            let gone = rng.random_range(0..bodies.len());
+            if bodies[gone].is_some() {
+                d.grid.remove(gone as u32, &bodies, t, &mut d.changes);
+                d.absorb();
+                bodies[gone] = None;
+                d.grid.validate(&bodies, t).unwrap();
+            }
+            check_against_boxes(&d, &bodies, t);
+        }
+    }
+    let anchors = counter(&d, "fast_anchors");
+    println!(
+        "fast: {fast_at_start} at the start, {fewest_fast} to {most_fast}; {slowed} brought \
+         back; {anchors} regions; {} pairs with fast bodies met",
+        met_fast.len()
+    );
+    // The shots start fast, the accelerated balls and the balls fired off join them, and
+    // the ones brought back leave the fast ones.
+    assert!(fast_at_start >= 8.0, "{fast_at_start}");
+    assert!(most_fast >= 20.0, "{most_fast}");
+    assert!(slowed >= 10, "{slowed}");
+    assert!(anchors > 100.0, "{anchors}");
+    assert!(met_fast.len() >= 10, "{met_fast:?}");
+}

@@ -601,7 +601,9 @@ impl KineticBroadPhase {
             self.structure = Some(match choice {
                 Choice::Sweep => Box::new(Sweep::new()),
                 Choice::Guards => Box::new(Guards::new(1.0)),
-                Choice::Grid => Box::new(Grid::new()),
+                // Both grids give a fast body's region at least a step of flight: a shot
+                // then costs an event a step, not one per cell or per two widths it flies.
+                Choice::Grid => Box::new(Grid::new().with_least_flight(params.dt as Real)),
                 Choice::Loose => {
                     let dt = params.dt as Real;
                     Box::new(
