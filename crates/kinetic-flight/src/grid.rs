@@ -1216,14 +1216,17 @@ impl CandidateStructure for Grid {
         self.widen_for(ids, bodies, now);
         let mut fresh = Vec::with_capacity(ids.len());
         let mut fast = Vec::new();
+        // The members' table grown once for the bulk, not copied over as it doubles.
+        if let Some(&top) = ids.iter().max()
+            && self.members.len() <= top as usize
+        {
+            self.members.resize(top as usize + 1, None);
+        }
         for &id in ids {
             if self.present(id) {
                 continue;
             }
             let m = self.make_member(bodies, id);
-            if self.members.len() <= id as usize {
-                self.members.resize(id as usize + 1, None);
-            }
             if self.is_fast(&m, now, FAST_SPAN) {
                 self.members[id as usize] = Some(m);
                 fast.push(id);
