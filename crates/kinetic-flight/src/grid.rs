@@ -373,6 +373,9 @@ pub struct Grid {
     least_flight: Real,
     /// The fast objects.
     fast: Vec<u32>,
+    /// Per level, bounds of the cells its owners have entered (they only grow): a fast
+    /// object's region looks for owners within them only.
+    owned: Vec<(i32, [[i64; 2]; 3])>,
     fast_anchors: u64,
 }
 
@@ -590,16 +593,23 @@ impl Grid {
         // Levels whose cells around the region outnumber the cells kept are read from the
         // whole table instead, once.
         let mut whole = Vec::new();
-        for &level in &self.occupied {
+        for &(level, bounds) in &self.owned {
             let s = self.cell_size(level);
             // One cell more on every side, so that a cell whose edge the region touches is
-            // read however the division rounds.
+            // read however the division rounds; no farther than any owner has been.
             let range: [[i64; 2]; 3] = std::array::from_fn(|k| {
                 [
-                    ((lo[k] / s).floor() as i64).saturating_sub(1),
-                    ((hi[k] / s).floor() as i64).saturating_add(1),
+                    ((lo[k] / s).floor() as i64)
+                        .saturating_sub(1)
+                        .max(bounds[k][0]),
+                    ((hi[k] / s).floor() as i64)
+                        .saturating_add(1)
+                        .min(bounds[k][1]),
                 ]
             });
+            if range.iter().any(|[a, b]| a > b) {
+                continue;
+            }
             let count: Real = range
                 .iter()
                 .map(|[a, b]| *b as Real - *a as Real + 1.0)
@@ -790,6 +800,17 @@ impl Grid {
         now: Real,
         changes: &mut Vec<PairChange>,
     ) {
+        if owner {
+            let (level, cell) = (key.0, [key.1, key.2, key.3]);
+            match self.owned.iter_mut().find(|(l, _)| *l == level) {
+                Some((_, b)) => {
+                    for k in 0..3 {
+                        b[k] = [b[k][0].min(cell[k]), b[k][1].max(cell[k])];
+                    }
+                }
+                None => self.owned.push((level, cell.map(|c| [c, c]))),
+            }
+        }
         let cell = self.cells.entry(key).or_default();
         let mut partners = std::mem::take(&mut self.scratch);
         partners.clear();
@@ -1471,7 +1492,19 @@ impl CandidateStructure for Grid {
                     }
                 }
                 Self::cells_of(t, None, &mut keys);
+                let bounds = self.owned.iter().find(|(l, _)| *l == m.level).map(|x| x.1);
                 for key in &keys {
+                    let inside = |b: [[i64; 2]; 3]| {
+                        [key.1, key.2, key.3]
+                            .iter()
+                            .zip(b)
+                            .all(|(c, [a, z])| a <= *c && *c <= z)
+                    };
+                    if t.level == m.level && !bounds.is_some_and(inside) {
+                        return Err(format!(
+                            "grid: object {id} owns cell {key:?} outside its level's bounds {bounds:?}"
+                        ));
+                    }
                     if listed.get(&(*key, id)) != Some(&(t.level == m.level)) {
                         return Err(format!(
                             "grid: object {id} not listed right in cell {key:?}"
