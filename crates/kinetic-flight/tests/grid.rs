@@ -107,17 +107,10 @@ fn sparse_small_balls_and_a_few_large_ones_match_the_box_pairs_through_replans_a
                     rng.random_range(-3.0..3.0),
                 );
                 body.plan = body.plan.replanned(t, v);
-                d.grid.replan(id as u32, &bodies, t, &mut d.changes);
-                d.absorb();
-                d.grid.validate(&bodies, t).unwrap();
+                d.replan(&bodies, id, t);
             }
             let gone = rng.random_range(0..bodies.len());
-            if bodies[gone].is_some() {
-                d.grid.remove(gone as u32, &bodies, t, &mut d.changes);
-                d.absorb();
-                bodies[gone] = None;
-                d.grid.validate(&bodies, t).unwrap();
-            }
+            d.remove(&mut bodies, gone, t);
             check_against_boxes(&d, &bodies, t);
         }
     }
@@ -245,14 +238,7 @@ fn a_shot_far_faster_than_its_cells_holds_a_region_a_step_and_meets_the_row_in_i
     // (x = 0 to 57), with a few larger balls beside the row (a second level): in a step of
     // 0.01 it crosses 100 of its cells.
     let shot = |grid: Grid| {
-        let mut bodies: Vec<Option<Body>> = (0..20)
-            .map(|i| {
-                Some(Body {
-                    shape: Shape::Ball { radius: 0.5 },
-                    plan: FlightPlan::at_rest(Vec3::new(3.0 * i as f64, 0.0, 0.0)),
-                })
-            })
-            .collect();
+        let mut bodies = common::resting_row(20, 3.0, 0.5);
         for i in 0..4 {
             bodies.push(Some(Body {
                 shape: Shape::Ball { radius: 4.0 },
@@ -389,24 +375,15 @@ fn fast_bodies_leave_the_cells_and_come_back_through_replans_and_acceleration() 
                 };
                 body.plan = if body.plan.velocity_at(t).length() > 100.0 {
                     slowed += 1;
-                    let mut plan = FlightPlan::linear(in_crowd(&mut rng), random_v(&mut rng, 1.0));
-                    plan.t0 = t;
-                    plan
+                    FlightPlan::linear(in_crowd(&mut rng), random_v(&mut rng, 1.0)).starting_at(t)
                 } else {
                     body.plan
                         .replanned(t, random_v(&mut rng, 1.0).normalize() * SHOT)
                 };
-                d.grid.replan(id as u32, &bodies, t, &mut d.changes);
-                d.absorb();
-                d.grid.validate(&bodies, t).unwrap();
+                d.replan(&bodies, id, t);
             }
             let gone = rng.random_range(0..bodies.len());
-            if bodies[gone].is_some() {
-                d.grid.remove(gone as u32, &bodies, t, &mut d.changes);
-                d.absorb();
-                bodies[gone] = None;
-                d.grid.validate(&bodies, t).unwrap();
-            }
+            d.remove(&mut bodies, gone, t);
             check_against_boxes(&d, &bodies, t);
         }
     }

@@ -113,17 +113,10 @@ fn a_crowd_with_fast_falling_and_resting_bodies_keeps_every_overlapping_pair() {
                     rng.random_range(-nudge..nudge),
                 );
                 body.plan = body.plan.replanned(t, v);
-                d.grid.replan(id as u32, &bodies, t, &mut d.changes);
-                d.absorb();
-                d.grid.validate(&bodies, t).unwrap();
+                d.replan(&bodies, id, t);
             }
             let gone = rng.random_range(0..316);
-            if bodies[gone].is_some() {
-                d.grid.remove(gone as u32, &bodies, t, &mut d.changes);
-                d.absorb();
-                bodies[gone] = None;
-                d.grid.validate(&bodies, t).unwrap();
-            }
+            d.remove(&mut bodies, gone, t);
             check(&d, &bodies, t);
         }
     }
@@ -266,14 +259,7 @@ fn a_shot_far_faster_than_its_width_is_reanchored_once_per_least_flight() {
     // A ball of radius 0.5 at 1e4 units per time unit along a row of 20 resting balls
     // 3 apart (x = 0 to 57): it crosses its own width 1e4 times per time unit.
     let shot = |grid: LooseGrid| {
-        let mut bodies: Vec<Option<Body>> = (0..20)
-            .map(|i| {
-                Some(Body {
-                    shape: Shape::Ball { radius: 0.5 },
-                    plan: FlightPlan::at_rest(Vec3::new(3.0 * i as f64, 0.0, 0.0)),
-                })
-            })
-            .collect();
+        let mut bodies = common::resting_row(20, 3.0, 0.5);
         bodies.push(Some(Body {
             shape: Shape::Ball { radius: 0.5 },
             plan: FlightPlan::linear(Vec3::new(-100.0, 0.0, 0.0), Vec3::new(1e4, 0.0, 0.0)),

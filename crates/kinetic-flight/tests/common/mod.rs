@@ -1,6 +1,6 @@
 //! Driving a candidate structure event by event, with the candidate set its changes describe.
 
-use kinetic_core::{Bodies, CandidateStructure, PairChange};
+use kinetic_core::{Bodies, Body, CandidateStructure, FlightPlan, PairChange, Shape, Vec3};
 use std::collections::{BTreeMap, BTreeSet};
 
 /// A structure with the candidate set its changes describe.
@@ -34,6 +34,28 @@ impl<S: CandidateStructure> Driven<S> {
         self.count.keys().copied().collect()
     }
 
+    /// Tells the structure that object `id`'s plan changed at `t`, auditing after.
+    pub fn replan(&mut self, bodies: &Bodies, id: usize, t: f64) {
+        self.grid.replan(id as u32, bodies, t, &mut self.changes);
+        self.absorb();
+        self.grid
+            .validate(bodies, t)
+            .unwrap_or_else(|e| panic!("after a re-plan at {t}: {e}"));
+    }
+
+    /// Takes object `id`, if it is live, out of the structure and of `bodies`, auditing after.
+    pub fn remove(&mut self, bodies: &mut Bodies, id: usize, t: f64) {
+        if bodies[id].is_none() {
+            return;
+        }
+        self.grid.remove(id as u32, bodies, t, &mut self.changes);
+        self.absorb();
+        bodies[id] = None;
+        self.grid
+            .validate(bodies, t)
+            .unwrap_or_else(|e| panic!("after a removal at {t}: {e}"));
+    }
+
     /// Runs the structure's events up to `t`, auditing after each.
     pub fn advance(&mut self, bodies: &Bodies, t: f64) -> usize {
         let mut events = 0;
@@ -48,4 +70,16 @@ impl<S: CandidateStructure> Driven<S> {
         }
         events
     }
+}
+
+/// `n` balls of radius `radius` resting along the x axis, `spacing` apart from the origin.
+pub fn resting_row(n: usize, spacing: f64, radius: f64) -> Vec<Option<Body>> {
+    (0..n)
+        .map(|i| {
+            Some(Body {
+                shape: Shape::Ball { radius },
+                plan: FlightPlan::at_rest(Vec3::new(spacing * i as f64, 0.0, 0.0)),
+            })
+        })
+        .collect()
 }
