@@ -245,10 +245,7 @@ fn a_shot_far_faster_than_its_cells_holds_a_region_a_step_and_meets_the_row_in_i
                 plan: FlightPlan::at_rest(Vec3::new(20.0 * i as f64, 4.2, 0.0)),
             }));
         }
-        bodies.push(Some(Body {
-            shape: Shape::Ball { radius: 0.5 },
-            plan: FlightPlan::linear(Vec3::new(-100.0, 0.0, 0.0), Vec3::new(1e4, 0.0, 0.0)),
-        }));
+        bodies.push(common::shot_along_x());
         let ids: Vec<u32> = (0..bodies.len() as u32).collect();
         let mut d = Driven::new(grid);
         d.grid.insert_many(&ids, &bodies, 0.0, &mut d.changes);
@@ -256,23 +253,13 @@ fn a_shot_far_faster_than_its_cells_holds_a_region_a_step_and_meets_the_row_in_i
         d.grid.validate(&bodies, 0.0).unwrap();
         // Within the second step, where the shot passes the row, the candidates are checked
         // every 0.1 units of its flight.
-        let mut per_step = Vec::new();
         let mut met = BTreeSet::new();
-        for step in 1..=20 {
-            let end = step as f64 * 0.01;
-            let mut events = 0;
-            if step == 2 {
-                for k in 1..=1000 {
-                    let t = 0.01 + k as f64 * 1e-5;
-                    events += d.advance(&bodies, t);
-                    check_against_boxes(&d, &bodies, t);
-                    met.extend(d.candidates().into_iter().filter(|p| p.1 == 24));
-                }
+        let per_step = d.fly_past_the_row(&bodies, |d, t, sampled| {
+            check_against_boxes(d, &bodies, t);
+            if sampled {
+                met.extend(d.candidates().into_iter().filter(|p| p.1 == 24));
             }
-            events += d.advance(&bodies, end);
-            check_against_boxes(&d, &bodies, end);
-            per_step.push(events);
-        }
+        });
         (per_step, met.len(), counter(&d, "crossings"))
     };
     let (bounded, met, crossings) = shot(Grid::new().with_least_flight(0.01));

@@ -260,32 +260,14 @@ fn a_shot_far_faster_than_its_width_is_reanchored_once_per_least_flight() {
     // 3 apart (x = 0 to 57): it crosses its own width 1e4 times per time unit.
     let shot = |grid: LooseGrid| {
         let mut bodies = common::resting_row(20, 3.0, 0.5);
-        bodies.push(Some(Body {
-            shape: Shape::Ball { radius: 0.5 },
-            plan: FlightPlan::linear(Vec3::new(-100.0, 0.0, 0.0), Vec3::new(1e4, 0.0, 0.0)),
-        }));
+        bodies.push(common::shot_along_x());
         let ids: Vec<u32> = (0..21).collect();
         let mut d = Driven::new(grid);
         d.grid.insert_many(&ids, &bodies, 0.0, &mut d.changes);
         d.absorb();
         // Steps of 0.01 (100 units of flight each); within the second, where the shot
         // passes the row, the candidates are checked every 0.1 units of its flight.
-        let mut per_step = Vec::new();
-        for step in 1..=20 {
-            let end = step as f64 * 0.01;
-            let mut events = 0;
-            if step == 2 {
-                for k in 1..=1000 {
-                    let t = 0.01 + k as f64 * 1e-5;
-                    events += d.advance(&bodies, t);
-                    check(&d, &bodies, t);
-                }
-            }
-            events += d.advance(&bodies, end);
-            check(&d, &bodies, end);
-            per_step.push(events);
-        }
-        per_step
+        d.fly_past_the_row(&bodies, |d, t, _| check(d, &bodies, t))
     };
     let bounded = shot(LooseGrid::new().with_horizon(0.04).with_least_flight(0.01));
     assert!(

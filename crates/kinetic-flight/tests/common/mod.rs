@@ -56,6 +56,32 @@ impl<S: CandidateStructure> Driven<S> {
             .unwrap_or_else(|e| panic!("after a removal at {t}: {e}"));
     }
 
+    /// Runs 20 steps of 0.01 (a shot's flight past a row, see [`shot_along_x`]), the second
+    /// (where it passes the row) sampled 1,000 times. `at(self, t, sampled)` looks at the
+    /// structure at each sample and each step's end. Returns the events of each step.
+    pub fn fly_past_the_row(
+        &mut self,
+        bodies: &Bodies,
+        mut at: impl FnMut(&Self, f64, bool),
+    ) -> Vec<usize> {
+        let mut per_step = Vec::new();
+        for step in 1..=20 {
+            let end = step as f64 * 0.01;
+            let mut events = 0;
+            if step == 2 {
+                for k in 1..=1000 {
+                    let t = 0.01 + k as f64 * 1e-5;
+                    events += self.advance(bodies, t);
+                    at(self, t, true);
+                }
+            }
+            events += self.advance(bodies, end);
+            at(self, end, false);
+            per_step.push(events);
+        }
+        per_step
+    }
+
     /// Runs the structure's events up to `t`, auditing after each.
     pub fn advance(&mut self, bodies: &Bodies, t: f64) -> usize {
         let mut events = 0;
@@ -82,4 +108,13 @@ pub fn resting_row(n: usize, spacing: f64, radius: f64) -> Vec<Option<Body>> {
             })
         })
         .collect()
+}
+
+/// A ball of radius 0.5 at x = -100 flying along x at 1e4 units per time unit: it reaches a
+/// [`resting_row`] from the origin during the second step of [`Driven::fly_past_the_row`].
+pub fn shot_along_x() -> Option<Body> {
+    Some(Body {
+        shape: Shape::Ball { radius: 0.5 },
+        plan: FlightPlan::linear(Vec3::new(-100.0, 0.0, 0.0), Vec3::new(1e4, 0.0, 0.0)),
+    })
 }
