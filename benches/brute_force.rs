@@ -7,7 +7,7 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use kinetic_collide::Response;
 use kinetic_collide::run::{StructureName, run_scene};
-use kinetic_collide::scenes::BallScene;
+use kinetic_scenes::BallScene;
 
 fn brute_force(c: &mut Criterion) {
     let mut group = c.benchmark_group("brute_force");

@@ -20,10 +20,10 @@
 //! seconds (default 120), the time for 1e6 then scaled from its rate. Without DynamO the table
 //! holds our figures only.
 
-use kinetic_collide::hard_spheres::HardSpheres;
 use kinetic_collide::run::{StructureName, choose_structure};
 use kinetic_collide::scene::outer_radius;
 use kinetic_collide::{ContactKind, ElasticCells, Walls};
+use kinetic_scenes::hard_spheres::HardSpheres;
 use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};

@@ -4,10 +4,10 @@
 //! `kinetic-collide compare`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use kinetic_collide::families::Family;
-use kinetic_collide::rapier_run::{Broad, run_rapier};
 use kinetic_collide::run::run_scene;
-use kinetic_collide::stepped::run_stepped;
+use kinetic_collide_cli::rapier_run::{Broad, run_rapier};
+use kinetic_collide_cli::stepped::run_stepped;
+use kinetic_scenes::families::Family;
 use std::hint::black_box;
 
 fn families(c: &mut Criterion) {

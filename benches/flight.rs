@@ -10,7 +10,7 @@
 
 use kinetic_collide::run::{StructureName, run_scene};
 use kinetic_collide::scene::Scene;
-use kinetic_collide::scenes::{FlightScene, NestScene};
+use kinetic_scenes::{FlightScene, NestScene};
 
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");

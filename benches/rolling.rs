@@ -6,7 +6,7 @@
 //! `cargo bench --bench rolling` (add `-- --quick` for n = 1e3 and 1e4 only).
 
 use kinetic_collide::run::{RunOutput, StructureName, run_scene};
-use kinetic_collide::scenes::BallScene;
+use kinetic_scenes::BallScene;
 
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");

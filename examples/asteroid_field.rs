@@ -5,9 +5,11 @@
 //!
 //! `cargo run --release --example asteroid_field -- [boxes|candidates] [N]`.
 
-use kinetic_collide::frames::{FrameSpec, Overlay, render_series, run_with_snapshots, write_run};
 use kinetic_collide::run::StructureName;
-use kinetic_collide::scenes::FlightScene;
+use kinetic_collide_cli::frames::{
+    FrameSpec, Overlay, render_series, run_with_snapshots, write_run,
+};
+use kinetic_scenes::FlightScene;
 use std::path::Path;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

@@ -3,7 +3,7 @@
 //! an asteroid field of mixed spinning shapes, or with `nest` the paper's Fig. 6 (clusters of
 //! small balls under chains of ever larger balls).
 
-use kinetic_collide::scenes::{FlightScene, NestScene};
+use kinetic_scenes::{FlightScene, NestScene};
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();

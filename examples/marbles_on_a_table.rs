@@ -6,8 +6,10 @@
 //! `cargo run --release --example marbles_on_a_table -- [boxes|candidates]` adds an overlay:
 //! the tree's threshold boxes, or lines between candidate pairs.
 
-use kinetic_collide::frames::{FrameSpec, Overlay, render_series, run_with_snapshots, write_run};
-use kinetic_collide::scenes::BallScene;
+use kinetic_collide_cli::frames::{
+    FrameSpec, Overlay, render_series, run_with_snapshots, write_run,
+};
+use kinetic_scenes::BallScene;
 use std::path::Path;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

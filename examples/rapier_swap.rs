@@ -5,10 +5,10 @@
 //! steps at 60 Hz). Writes a PNG frame every 5 steps to `out/rapier_swap/` (colliders in
 //! contact in red).
 
-use kinetic_collide::frames::{CONTACT, PALETTE, PLANE, render_series_from};
+use kinetic_collide_cli::frames::{CONTACT, PALETTE, PLANE, render_series_from};
 use kinetic_rapier::KineticBroadPhase;
-use kinetic_rapier::scenes::{RapierScene, rain};
 use kinetic_render::{Camera, Instance, Snapshot};
+use kinetic_scenes::rapier::{RapierScene, rain};
 use rapier3d::prelude::*;
 
 /// Steps between frames.

@@ -1,7 +1,7 @@
 //! Writes the rolling benchmark scene of `n` balls (issue 3) as a scene file:
 //! `cargo run --release --example rolling_scene -- N HORIZON > scene.json`.
 
-use kinetic_collide::scenes::BallScene;
+use kinetic_scenes::BallScene;
 
 fn main() {
     let mut args = std::env::args().skip(1);

@@ -7,12 +7,12 @@
 //! exact one is a *false contact*. The time error of a found contact is how far its begin is
 //! from the exact one.
 
-use crate::families::{Case, Family};
 use crate::rapier_run::{Broad, run_rapier};
-use crate::run::{RunError, StructureName, run_scene};
-use crate::scene::Scene;
 use crate::stepped::run_stepped;
+use kinetic_collide::run::{RunError, StructureName, run_scene};
+use kinetic_collide::scene::Scene;
 use kinetic_core::{ContactEvent, ContactKind, Real, Response, WorldKind};
+use kinetic_scenes::families::{Case, Family};
 use std::collections::BTreeMap;
 
 /// The steps the time-stepped methods run at.
@@ -107,7 +107,7 @@ impl Method {
             ],
         }
         .into_iter()
-        .chain(crate::run::cells_hold(scene).then_some(StructureName::Cells))
+        .chain(kinetic_collide::run::cells_hold(scene).then_some(StructureName::Cells))
         .chain([StructureName::BruteForce])
         .map(Method::Kinetic)
         .collect();

@@ -5,11 +5,12 @@
 //! objects that began a contact since the previous frame (under `elastic`, contacts are
 //! instants). Optional overlays show what the structure is doing ([`Overlay`]).
 
-use crate::run::{RunError, RunOutput, StructureName, run_scene_sampled};
-use crate::scene::{Scene, ShapeSpec};
 use glam::Vec3 as F3;
-use kinetic_core::{ContactKind, World, WorldKind};
+use kinetic_collide::run::{RunError, RunOutput, Stream, StructureName, run_scene_streamed};
+use kinetic_collide::scene::{Scene, ShapeSpec};
+use kinetic_core::{ContactEvent, World, WorldKind};
 use kinetic_render::{AdapterChoice, Camera, HullMesh, Instance, RenderError, Renderer, Snapshot};
+use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -138,7 +139,8 @@ impl Painter {
                 ShapeSpec::Ball { radius } => ObjectMesh::Ball(*radius as f32),
                 ShapeSpec::Cuboid { half_extents } => ObjectMesh::Cuboid(half_extents.as_vec3()),
                 ShapeSpec::ConvexHull { points } => {
-                    let (points, triangles) = parry3d_f64::transformation::convex_hull(points);
+                    let (points, triangles) =
+                        kinetic_collide::parry::transformation::convex_hull(points);
                     hulls.push(HullMesh {
                         points: points.iter().map(|p| p.as_vec3()).collect(),
                         triangles,
@@ -230,23 +232,42 @@ fn add_plane(snapshots: &mut [Snapshot]) {
     }
 }
 
-/// Runs `scene` to its horizon and takes a snapshot at each frame time. The run's output is
-/// exactly what [`crate::run::run_scene`] gives.
+/// Runs `scene` to its horizon and takes a snapshot at each frame time. The run's output,
+/// its events included, is exactly what [`kinetic_collide::run::run_scene`] gives.
 pub fn run_with_snapshots(
     scene: &Scene,
     structure: Option<StructureName>,
     spec: &FrameSpec,
 ) -> Result<(RunOutput, Vec<Snapshot>), RunError> {
+    let mut events = Vec::new();
+    let mut sink = |batch: &[ContactEvent]| {
+        events.extend_from_slice(batch);
+        ControlFlow::Continue(())
+    };
+    let mut stream = Stream {
+        sink: &mut sink,
+        stop: None,
+    };
+    let (mut output, snapshots) = run_with_snapshots_streamed(scene, structure, spec, &mut stream)?;
+    output.events = events;
+    Ok((output, snapshots))
+}
+
+/// [`run_with_snapshots`], handing the events to `stream` as they happen instead of holding
+/// them.
+pub fn run_with_snapshots_streamed(
+    scene: &Scene,
+    structure: Option<StructureName>,
+    spec: &FrameSpec,
+    stream: &mut Stream<'_>,
+) -> Result<(RunOutput, Vec<Snapshot>), RunError> {
     let painter = Painter::new(scene, spec.overlay);
     let mut snapshots = Vec::with_capacity(spec.count);
     let times = frame_times(scene.horizon, spec.count);
-    let output = run_scene_sampled(scene, structure, &times, |world, new_events| {
-        let mut contact = vec![false; world.bodies().len()];
-        let begun = new_events
-            .iter()
-            .filter(|e| e.kind == ContactKind::Begin)
-            .map(|e| (e.a, e.b));
-        for (a, b) in begun.chain(world.touching_pairs()) {
+    let mut sample = |world: &World, begun: &[bool]| {
+        let mut contact = begun.to_vec();
+        contact.resize(world.bodies().len(), false);
+        for (a, b) in world.touching_pairs() {
             for id in [a.0, b.0] {
                 if let Some(c) = contact.get_mut(id as usize) {
                     *c = true;
@@ -254,7 +275,8 @@ pub fn run_with_snapshots(
             }
         }
         snapshots.push(painter.snapshot(world, &contact));
-    })?;
+    };
+    let output = run_scene_streamed(scene, structure, &times, &mut sample, stream)?;
     if scene.world == WorldKind::Plane {
         add_plane(&mut snapshots);
     }
@@ -270,7 +292,7 @@ pub fn write_run(dir: &Path, scene: &Scene, output: &RunOutput) -> Result<(), St
         ("stats.json", output.stats_json()),
     ] {
         let path = dir.join(name);
-        crate::run::write_whole(&path, &text)
+        crate::output::write_whole(&path, &text)
             .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
     }
     Ok(())

@@ -1,66 +1,14 @@
-//! # kinetic-collide
+//! # kinetic-collide-cli
 //!
-//! Exact collision detection for moving objects with kinetic data structures, after
-//! "Kinetic Collision Detection for Convex Fat Objects" (Abam, de Berg, Poon, Speckmann).
-//! Objects move along flight plans; certificates prove pairs apart, their failure times are
-//! computed from the plans, and failures are processed in time order, so every contact is
-//! found at its exact time, whatever the speeds.
-//!
-//! Build a world, add objects with flight plans, change a plan, advance, drain the events:
-//!
-//! ```
-//! use kinetic_collide::{ContactKind, FlightPlan, Vec3, World, WorldKind};
-//!
-//! let mut world = World::new(WorldKind::Free);
-//! let a = world.add_ball(0.5, FlightPlan::linear(Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0)))?;
-//! let b = world.add_ball(0.5, FlightPlan::at_rest(Vec3::new(4.0, 0.0, 0.0)))?;
-//! world.advance_to(2.0)?;
-//! // Push `b` away along +x from t = 2 on: only b's certificates are rescheduled.
-//! world.set_plan(b, FlightPlan::linear(Vec3::new(4.0, 0.0, 0.0), Vec3::new(0.5, 0.0, 0.0)).starting_at(2.0))?;
-//! world.advance_to(10.0)?;
-//! let events = world.drain_events();
-//! assert_eq!(events.len(), 2); // a catches b at t = 4 and is through it at t = 8
-//! assert_eq!((events[0].a, events[0].b, events[0].kind), (a, b, ContactKind::Begin));
-//! assert!((events[0].time - 4.0).abs() < 1e-12);
-//! world.remove(a)?;
-//! # Ok::<(), kinetic_collide::WorldError>(())
-//! ```
-//!
-//! Balls rolling on a plane get the collision tree of the paper's Section 2
-//! ([`RollingTree`]) as their candidate structure:
-//!
-//! ```
-//! use kinetic_collide::{FlightPlan, ListLayout, Response, RollingTree, Vec3, World, WorldKind};
-//!
-//! let tree = Box::new(RollingTree::new(ListLayout::PerNode));
-//! let mut world = World::with_structure(WorldKind::Plane, Response::Elastic, None, tree)?;
-//! world.add_balls([
-//!     (0.1, FlightPlan::linear(Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0))),
-//!     (10.0, FlightPlan::at_rest(Vec3::new(5.0, 0.0, 0.0))),
-//! ])?;
-//! world.advance_to(10.0)?;
-//! // The marble meets the big ball when their tangency points are 2 sqrt(0.1 * 10) = 2 apart.
-//! assert_eq!(world.drain_events()[0].time, 3.0);
-//! # Ok::<(), kinetic_collide::WorldError>(())
-//! ```
-//!
-//! Bad input gives a typed error ([`WorldError`], [`scene::SceneError`]) naming what is
-//! wrong; nothing panics on user data. Scene files and the command-line tool follow the scene
-//! format (see the README).
+//! The command-line tool's parts: drawing a run's frames, writing its files, and the
+//! comparison harness (kinetic structures against time stepping and rapier, on the scene
+//! families of `kinetic-scenes`) with its chart. The library users add is `kinetic-collide`.
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
 pub mod chart;
 pub mod compare;
-pub mod families;
 pub mod frames;
-pub mod hard_spheres;
+pub mod output;
 pub mod rapier_run;
-pub mod run;
-pub mod scene;
-pub mod scenes;
 pub mod stepped;
-
-pub use kinetic_core::*;
-pub use kinetic_flight::{ConvexShape, Guards, ShapeError, Sweep, fatness};
-pub use kinetic_rolling::{ListLayout, RollingTree};

@@ -1,14 +1,22 @@
 //! The `kinetic-collide` command-line tool: runs a scene file and writes its exact event log.
 
+use clap::builder::PossibleValuesParser;
 use clap::{Parser, Subcommand};
-use kinetic_collide::frames::{FrameSpec, Overlay, render_series, run_with_snapshots, write_run};
-use kinetic_collide::hard_spheres::HardSpheres;
-use kinetic_collide::run::{RunError, RunOutput, StructureName, write_whole};
+use kinetic_collide::ContactEvent;
+use kinetic_collide::run::{RunError, Stream, StructureName, push_event_line};
 use kinetic_collide::scene::Scene;
-use kinetic_collide::scenes::BallScene;
+use kinetic_collide_cli::frames::{
+    FrameSpec, Overlay, render_series, run_with_snapshots, run_with_snapshots_streamed, write_run,
+};
+use kinetic_collide_cli::output::{self, Output, Target, write_whole};
 use kinetic_render::Snapshot;
+use kinetic_scenes::BallScene;
+use kinetic_scenes::hard_spheres::HardSpheres;
+use std::io::Read as _;
+use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Exact kinetic collision detection for moving objects.
 ///
@@ -33,9 +41,8 @@ enum Command {
         /// Where to write the statistics (JSON).
         #[arg(long)]
         stats: Option<PathBuf>,
-        /// The kinetic structure: rolling-tree, rolling-global-lists, sweep, guards, grid,
-        /// cells or brute-force (default: chosen from the scene).
-        #[arg(long)]
+        /// The kinetic structure (default: the fastest for the scene, chosen from it).
+        #[arg(long, value_name = "NAME", value_parser = PossibleValuesParser::new(StructureName::ALL.map(|(name, _)| name)))]
         structure: Option<String>,
         /// Also render N frames at even times over the horizon, as PNG.
         #[arg(long, value_name = "N", default_value_t = 0)]
@@ -147,6 +154,17 @@ fn main() -> ExitCode {
 
 type Failure = (u8, String);
 
+/// Writes `text` to standard output; a reader that went away is no failure.
+fn to_stdout(text: &str) -> Result<(), Failure> {
+    use std::io::Write as _;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Ok(()) => Ok(()),
+        Err(e) if output::is_broken_pipe(&e) => Ok(()),
+        Err(e) => Err((1, format!("standard output: cannot write: {e}"))),
+    }
+}
+
 /// Frames asked for: the spec and the folder.
 type Frames = Option<(FrameSpec, PathBuf)>;
 
@@ -175,6 +193,9 @@ fn frame_request(
     Ok(Some((spec, dir)))
 }
 
+/// Set by SIGINT and SIGTERM: the run stops at the next instant and writes what it has.
+static STOP: AtomicBool = AtomicBool::new(false);
+
 fn run_file(
     path: &Path,
     events: Option<&Path>,
@@ -186,15 +207,66 @@ fn run_file(
         .map(StructureName::parse)
         .transpose()
         .map_err(|e| (2, e.to_string()))?;
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| (2, format!("{}: cannot read: {e}", path.display())))?;
-    let scene = Scene::from_json(&text).map_err(|e| (2, format!("{}: {e}", path.display())))?;
+    let from_stdin = output::is_dash(path);
+    let shown = if from_stdin {
+        "standard input".to_string()
+    } else {
+        path.display().to_string()
+    };
+    let dash = Path::new("-");
+    let mut named = vec![("--events", events.unwrap_or(dash))];
+    if let Some(p) = stats {
+        named.push(("--stats", p));
+    }
+    let input = (!from_stdin).then_some(path);
+    let targets = output::plan_outputs(input, &named).map_err(|e| (2, e))?;
+    let text = if from_stdin {
+        let mut text = String::new();
+        std::io::stdin()
+            .read_to_string(&mut text)
+            .map_err(|e| (2, format!("{shown}: cannot read: {e}")))?;
+        text
+    } else {
+        std::fs::read_to_string(path).map_err(|e| (2, format!("{shown}: cannot read: {e}")))?
+    };
+    let scene = Scene::from_json(&text).map_err(|e| (2, format!("{shown}: {e}")))?;
+    drop(text);
     let spec = frames
         .as_ref()
         .map_or(FrameSpec::default(), |(spec, _)| *spec);
-    let (output, snapshots, stopped) = match run_with_snapshots(&scene, structure, &spec) {
+    let cannot_write = |target: &Target, e: std::io::Error| {
+        let name = match target {
+            Target::Stdout => "standard output".to_string(),
+            Target::File(p) | Target::Special(p) => p.display().to_string(),
+        };
+        (1, format!("{name}: cannot write: {e}"))
+    };
+    let mut log = Output::open(&targets[0]).map_err(|e| cannot_write(&targets[0], e))?;
+    let _ = ctrlc::set_handler(|| STOP.store(true, Ordering::Relaxed));
+    let mut write_error: Option<std::io::Error> = None;
+    let mut line = String::with_capacity(1 << 16);
+    let mut sink = |batch: &[ContactEvent]| {
+        line.clear();
+        for e in batch {
+            push_event_line(&mut line, e);
+        }
+        match log.write_all(line.as_bytes()) {
+            Ok(()) => ControlFlow::Continue(()),
+            Err(e) => {
+                let reason = format!("the event log could not be written: {e}");
+                write_error = Some(e);
+                ControlFlow::Break(reason)
+            }
+        }
+    };
+    let mut stream = Stream {
+        sink: &mut sink,
+        stop: Some(&STOP),
+    };
+    let result = run_with_snapshots_streamed(&scene, structure, &spec, &mut stream);
+    let (output, snapshots, stopped) = match result {
         Ok((out, snapshots)) => (out, snapshots, None),
-        Err(RunError::Input(msg)) => return Err((2, format!("{}: {msg}", path.display()))),
+        Err(RunError::Input(msg)) => return Err((2, format!("{shown}: {msg}"))),
         Err(RunError::Stopped {
             time,
             source,
@@ -205,10 +277,43 @@ fn run_file(
             Some(format!("run stopped at t = {time}: {source}")),
         ),
     };
-    write_outputs(&output, events, stats)?;
+    let written = match write_error {
+        Some(e) => {
+            drop(log);
+            Err(e)
+        }
+        None => log.commit(),
+    };
+    // The reader of the log went away: nothing is wrong, and nothing more is wanted of it.
+    let broken_pipe = written
+        .as_ref()
+        .is_err_and(|e| output::is_broken_pipe(e) && targets[0] == Target::Stdout);
+    if let Err(e) = written
+        && !broken_pipe
+    {
+        if let Some(target) = targets.get(1) {
+            let _ = output::write_target(target, &output.stats_json());
+        }
+        return Err(cannot_write(&targets[0], e));
+    }
+    if let Some(target) = targets.get(1) {
+        output::write_target(target, &output.stats_json()).map_err(|e| cannot_write(target, e))?;
+    }
+    if broken_pipe {
+        return Ok(());
+    }
     eprintln!("{}", output.summary());
     if let Some(msg) = stopped {
         return Err((1, format!("{msg} (events up to then were written)")));
+    }
+    if let Some(stop) = &output.interrupted {
+        return Err((
+            130,
+            format!(
+                "{} at t = {}: the log holds every event up to then",
+                stop.reason, stop.time
+            ),
+        ));
     }
     if let Some((spec, dir)) = frames {
         write_frames(&snapshots, &spec, &dir)?;
@@ -230,25 +335,9 @@ fn write_frames(snapshots: &[Snapshot], spec: &FrameSpec, dir: &Path) -> Result<
     }
 }
 
-fn write_outputs(
-    output: &RunOutput,
-    events: Option<&Path>,
-    stats: Option<&Path>,
-) -> Result<(), Failure> {
-    let io = |p: &Path, e: std::io::Error| (1, format!("{}: cannot write: {e}", p.display()));
-    match events {
-        Some(p) => write_whole(p, &output.event_log()).map_err(|e| io(p, e))?,
-        None => print!("{}", output.event_log()),
-    }
-    if let Some(p) = stats {
-        write_whole(p, &output.stats_json()).map_err(|e| io(p, e))?;
-    }
-    Ok(())
-}
-
 fn compare(args: &[String], out: &Path) -> Result<(), Failure> {
-    use kinetic_collide::compare::{NamedScene, compare_scene, markdown, write_csv};
-    use kinetic_collide::families::Family;
+    use kinetic_collide_cli::compare::{NamedScene, compare_scene, markdown, write_csv};
+    use kinetic_scenes::families::Family;
     let names: Vec<String> = if args.is_empty() {
         Family::ALL.iter().map(|f| f.name().to_string()).collect()
     } else {
@@ -289,8 +378,8 @@ fn compare(args: &[String], out: &Path) -> Result<(), Failure> {
         // Keep what is done safe after each scene.
         write_csv(&out.join("compare.csv"), &rows).map_err(|e| (1, e))?;
     }
-    print!("{}", markdown(&rows));
-    kinetic_collide::chart::draw(&rows, &out.join("compare.png"))
+    to_stdout(&markdown(&rows))?;
+    kinetic_collide_cli::chart::draw(&rows, &out.join("compare.png"))
         .map_err(|e| (1, format!("chart not drawn: {e} (the CSV was written)")))?;
     eprintln!("wrote {0}/compare.csv and {0}/compare.png", out.display());
     Ok(())
@@ -298,12 +387,29 @@ fn compare(args: &[String], out: &Path) -> Result<(), Failure> {
 
 fn generate(spheres: HardSpheres, out: Option<&Path>) -> Result<(), Failure> {
     let scene = spheres.build().map_err(|e| (2, e.to_string()))?;
+    if !(scene.horizon.is_finite() && scene.horizon > 0.0) {
+        return Err((
+            2,
+            format!(
+                "these parameters give no finite horizon (horizon {}): the spheres are too \
+                 small for f64",
+                scene.horizon
+            ),
+        ));
+    }
     let text = scene.to_json();
+    // What is written must read back: a scene `run` would refuse is refused here.
+    Scene::from_json(&text).map_err(|e| {
+        (
+            2,
+            format!("these parameters give a scene that cannot run: {e}"),
+        )
+    })?;
     match out {
         Some(path) => {
             write_whole(path, &text).map_err(|e| (1, format!("{}: {e}", path.display())))?
         }
-        None => print!("{text}"),
+        None => to_stdout(&text)?,
     }
     let counts: Vec<String> = spheres
         .species()
@@ -333,12 +439,13 @@ fn default_scene() -> Result<(), Failure> {
         Err(e) => return Err((1, e.to_string())),
     };
     write_run(dir, &scene, &output).map_err(|e| (1, e))?;
-    println!("marbles on a table: {}", output.summary());
-    println!(
-        "wrote {0}/scene.json, {0}/events.jsonl ({1} events) and {0}/stats.json",
+    to_stdout(&format!(
+        "marbles on a table: {}\nwrote {1}/scene.json, {1}/events.jsonl ({2} events) and \
+         {1}/stats.json\n",
+        output.summary(),
         dir.display(),
         output.events.len(),
-    );
+    ))?;
     write_frames(&snapshots, &spec, dir)
 }
 

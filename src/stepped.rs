@@ -4,11 +4,10 @@
 //! at the first sample where a pair overlaps and ends at the first where it no longer does;
 //! anything that starts and ends between two samples is missed.
 
-use crate::run::{RunError, shapes_of};
-use crate::scene::Scene;
-use kinetic_core::{
-    ContactEvent, ContactKind, FlightPlan, ObjectId, Pose, Real, Shape, Vec3, signed_distance,
-};
+use kinetic_collide::run::{RunError, shapes_of};
+use kinetic_collide::scene::Scene;
+use kinetic_core::kds::{Pose, signed_distance};
+use kinetic_core::{ContactEvent, ContactKind, FlightPlan, ObjectId, Real, Shape, Vec3};
 use rustc_hash::FxHashSet;
 use std::time::Instant;
 
@@ -134,7 +133,7 @@ fn overlapping(a: &Shape, pa: &Pose, b: &Shape, pb: &Pose) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::SceneObject;
+    use kinetic_collide::scene::SceneObject;
     use kinetic_core::{Response, WorldKind};
 
     fn two_balls(speed: f64) -> Scene {

@@ -367,7 +367,10 @@ fn bad_options_are_errors() {
     let scene = scene_with(r#""world": "free", "horizon": 1"#, &[BALL]);
     let (status, err, events, _) = run(&dir, &scene, &["--structure", "octree"]);
     assert_eq!(status, 2);
-    assert!(err.contains("unknown structure \"octree\""), "{err}");
+    assert!(
+        err.contains("invalid value 'octree'") && err.contains("loose-grid"),
+        "{err}"
+    );
     assert!(events.is_none());
     let (status, err, _, _) = run(&dir, &scene, &["--structure", "rolling-tree"]);
     assert_eq!(status, 2);
@@ -385,7 +388,7 @@ fn bad_options_are_errors() {
 #[test]
 fn same_scene_twice_gives_identical_bytes() {
     let dir = temp_dir("determinism");
-    let scene = kinetic_collide::scenes::BallScene::marbles_on_a_table()
+    let scene = kinetic_scenes::BallScene::marbles_on_a_table()
         .build()
         .to_json();
     let (s1, _, e1, st1) = run(&dir, &scene, &[]);
@@ -405,7 +408,7 @@ fn same_scene_twice_gives_identical_bytes() {
 
 #[test]
 fn scene_round_trips_through_json() {
-    let scene = kinetic_collide::scenes::BallScene::marbles_on_a_table().build();
+    let scene = kinetic_scenes::BallScene::marbles_on_a_table().build();
     let again = kinetic_collide::scene::Scene::from_json(&scene.to_json()).unwrap();
     assert_eq!(scene, again);
 }
@@ -413,7 +416,7 @@ fn scene_round_trips_through_json() {
 #[test]
 fn plane_scenes_run_on_the_rolling_tree_and_match_the_brute_force() {
     let dir = temp_dir("rolling");
-    let mut params = kinetic_collide::scenes::BallScene::marbles_on_a_table();
+    let mut params = kinetic_scenes::BallScene::marbles_on_a_table();
     params.n = 120;
     params.horizon = 10.0;
     let scene = params.build().to_json();
@@ -442,7 +445,7 @@ fn plane_scenes_run_on_the_rolling_tree_and_match_the_brute_force() {
 fn compare_scores_every_method_and_writes_csv_and_chart() {
     let dir = temp_dir("compare");
     // A bullets scene file beside two built-in families at small sizes.
-    let scene = kinetic_collide::families::Family::Bullets.scene(20, 2);
+    let scene = kinetic_scenes::families::Family::Bullets.scene(20, 2);
     let file = dir.join("bullets.json");
     std::fs::write(&file, scene.to_json()).unwrap();
     let out = tool()

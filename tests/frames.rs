@@ -1,11 +1,11 @@
 //! Frames: the CLI writes them without changing the log, a missing adapter is a clear error
 //! that keeps the log, and a highlighted contact lands where the camera projects it.
 
-use kinetic_collide::frames::{
-    CONTACT, FrameSpec, Overlay, Painter, frame_times, run_with_snapshots,
-};
 use kinetic_collide::run::run_scene;
 use kinetic_collide::scene::Scene;
+use kinetic_collide_cli::frames::{
+    CONTACT, FrameSpec, Overlay, Painter, frame_times, run_with_snapshots,
+};
 use kinetic_render::{AdapterChoice, Camera, Renderer};
 use std::path::PathBuf;
 use std::process::Command;

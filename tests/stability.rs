@@ -1,17 +1,16 @@
 //! The stability suite: one named test per case where collision detection methods break
-//! (`kinetic_collide::families::Case`). Each runs every free-flight structure with
+//! (`kinetic_scenes::families::Case`). Each runs every free-flight structure with
 //! `World::validate` after every event against the brute force, and checks the case's own
 //! claim; where it shows how a time-stepped method fails, it asserts that too.
 
-use kinetic_collide::compare::score;
-use kinetic_collide::families::{Case, Family};
 use kinetic_collide::run::{StructureName, build_world, run_scene};
 use kinetic_collide::scene::Scene;
-use kinetic_collide::stepped::run_stepped;
 use kinetic_collide::{BruteForce, ContactEvent, ContactKind, World, WorldError};
+use kinetic_collide_cli::compare::score;
+use kinetic_collide_cli::stepped::run_stepped;
+use kinetic_scenes::families::{Case, Family};
 
-mod common;
-use common::{assert_same_contacts, run_audited as audited};
+use kinetic_scenes::audit::{assert_same_contacts, run_audited as audited};
 
 const FREE: [StructureName; 3] = [
     StructureName::Sweep,

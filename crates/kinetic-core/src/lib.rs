@@ -20,29 +20,24 @@
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
+mod body;
 mod brute_force;
-pub mod certificates;
-pub mod geometry;
+pub mod kds;
 mod math;
 mod plan;
-mod poly;
-mod queue;
-pub mod roots;
-mod sorted_list;
 mod structure;
 mod world;
 
+// The building blocks, by their short paths inside the crate.
+pub(crate) use kds::{EventQueue, certificates, geometry, pair_key, poly, queue, roots};
+
+pub use body::{Body, Shape};
 pub use brute_force::BruteForce;
-pub use certificates::{OrderCertificate, ScalarKey};
-pub use geometry::{ConvexGeometry, Pose, signed_distance};
 pub use math::{Quat, Real, Vec3};
 pub use plan::FlightPlan;
-pub use poly::{Poly, sign};
-pub use queue::EventQueue;
-pub use sorted_list::{KineticSortedList, SortedListError, Swap};
-pub use structure::{Bodies, CandidateStructure, PairChange};
+pub use structure::CandidateStructure;
 pub use world::step::StepKind;
 pub use world::{
-    Body, ContactEvent, ContactKind, ElasticCells, ObjectId, PairCertificate, Response, Shape,
-    Stats, Walls, World, WorldError, WorldKind,
+    ContactEvent, ContactKind, ElasticCells, MAX_MAGNITUDE, ObjectId, Response, Stats, Walls,
+    World, WorldError, WorldKind,
 };

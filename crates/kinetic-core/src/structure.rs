@@ -5,8 +5,8 @@
 //! and reports contacts; a structure only decides which pairs are candidates. The brute force
 //! ([`crate::BruteForce`]) makes every pair a candidate and has no events of its own.
 
+use crate::body::Body;
 use crate::math::{Real, Vec3};
-use crate::world::Body;
 
 /// A change to the candidate set: `delta` is +1 (the structure now needs the pair certified)
 /// or -1 (it no longer does). A pair may be needed for several reasons; the simulator counts.
@@ -24,7 +24,7 @@ pub struct PairChange {
 pub type Bodies = [Option<Body>];
 
 /// A kinetic structure that maintains candidate pairs.
-pub trait CandidateStructure: std::fmt::Debug {
+pub trait CandidateStructure: std::fmt::Debug + Send + Sync {
     /// The name used in statistics and on the command line.
     fn name(&self) -> &'static str;
     /// Object `id` (already in `bodies`) joins at time `now`.

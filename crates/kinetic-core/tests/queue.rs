@@ -1,6 +1,6 @@
 //! The event queue against a sorted vector.
 
-use kinetic_core::EventQueue;
+use kinetic_core::kds::EventQueue;
 use proptest::prelude::*;
 
 #[derive(Clone, Debug)]

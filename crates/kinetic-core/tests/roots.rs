@@ -1,7 +1,7 @@
 //! Certificate roots against roots planted by construction, and adversarial cases.
 
-use kinetic_core::Poly;
-use kinetic_core::roots::{first_sign_change, roots_after_zero};
+use kinetic_core::kds::Poly;
+use kinetic_core::kds::roots::{first_sign_change, roots_after_zero};
 use proptest::prelude::*;
 
 /// The polynomial `scale * prod (tau - r_i)`.
@@ -64,7 +64,7 @@ proptest! {
         let found = roots_after_zero(&p);
         for r in found.iter() {
             let probe = r.tau + 0.05;
-            prop_assert_eq!(kinetic_core::sign(p.eval(probe)), r.after);
+            prop_assert_eq!(kinetic_core::kds::sign(p.eval(probe)), r.after);
         }
     }
 }

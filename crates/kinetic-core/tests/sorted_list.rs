@@ -1,6 +1,6 @@
 //! The kinetic sorted list against sorting at random times, `validate()` after every event.
 
-use kinetic_core::{KineticSortedList, ScalarKey};
+use kinetic_core::kds::{KineticSortedList, ScalarKey};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -151,7 +151,7 @@ fn insert_remove_and_rekey_while_running() {
     }
     assert_eq!(
         list.insert(5000, ScalarKey::linear(f64::NAN, 0.0)),
-        Err(kinetic_core::SortedListError::NonFinite(5000))
+        Err(kinetic_core::kds::SortedListError::NonFinite(5000))
     );
     assert!(list.remove(99_999).is_err());
 }

@@ -371,25 +371,25 @@ impl kinetic_core::CandidateStructure for AddPairAt {
     fn insert(
         &mut self,
         _: u32,
-        _: &kinetic_core::Bodies,
+        _: &kinetic_core::kds::Bodies,
         _: f64,
-        _: &mut Vec<kinetic_core::PairChange>,
+        _: &mut Vec<kinetic_core::kds::PairChange>,
     ) {
     }
     fn remove(
         &mut self,
         _: u32,
-        _: &kinetic_core::Bodies,
+        _: &kinetic_core::kds::Bodies,
         _: f64,
-        _: &mut Vec<kinetic_core::PairChange>,
+        _: &mut Vec<kinetic_core::kds::PairChange>,
     ) {
     }
     fn replan(
         &mut self,
         _: u32,
-        _: &kinetic_core::Bodies,
+        _: &kinetic_core::kds::Bodies,
         _: f64,
-        _: &mut Vec<kinetic_core::PairChange>,
+        _: &mut Vec<kinetic_core::kds::PairChange>,
     ) {
     }
     fn next_event_time(&self) -> f64 {
@@ -397,11 +397,11 @@ impl kinetic_core::CandidateStructure for AddPairAt {
     }
     fn process_next_event(
         &mut self,
-        _: &kinetic_core::Bodies,
-        changes: &mut Vec<kinetic_core::PairChange>,
+        _: &kinetic_core::kds::Bodies,
+        changes: &mut Vec<kinetic_core::kds::PairChange>,
     ) -> &'static str {
         self.1 = true;
-        changes.push(kinetic_core::PairChange {
+        changes.push(kinetic_core::kds::PairChange {
             a: 0,
             b: 1,
             delta: 1,
@@ -411,7 +411,7 @@ impl kinetic_core::CandidateStructure for AddPairAt {
     fn certificates(&self) -> usize {
         0
     }
-    fn validate(&self, _: &kinetic_core::Bodies, _: f64) -> Result<(), String> {
+    fn validate(&self, _: &kinetic_core::kds::Bodies, _: f64) -> Result<(), String> {
         Ok(())
     }
 }

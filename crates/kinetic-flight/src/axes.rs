@@ -1,7 +1,8 @@
 //! Three kinetic sorted lists, one per axis, of items that follow the objects' flight plans
 //! (box ends, guard-cube ends): what the sweep and the guards share.
 
-use kinetic_core::{Bodies, KineticSortedList, Real, ScalarKey, Swap};
+use kinetic_core::Real;
+use kinetic_core::kds::{Bodies, KineticSortedList, ScalarKey, Swap};
 
 /// An object's items: for each one, its id and key on each axis.
 pub(crate) type AxisItems = Vec<[(u32, ScalarKey); 3]>;

@@ -7,7 +7,7 @@
 //!
 //! - [`ConvexShape`]: cuboids and convex hulls with their centre, inner ball B-, outer ball B+
 //!   and fatness; the core measures their signed distance through it and finds contact times
-//!   by conservative advancement (see `kinetic_core::geometry`).
+//!   by conservative advancement (see `kinetic_core::kds::geometry`).
 //! - [`Sweep`] (Section 3.1, Theorem 6): three kinetic sorted lists of the endpoints of the
 //!   boxes of the outer balls; every pair of overlapping boxes is a candidate pair. O(n) size
 //!   for objects of similar sizes.
@@ -46,6 +46,7 @@
 #![forbid(unsafe_code)]
 
 mod axes;
+mod cell_math;
 mod choose;
 mod cones;
 mod grid;

@@ -7,7 +7,8 @@
 //! largest ball about the centre inside the shape and the smallest one about it holding the
 //! shape; the fatness is their ratio (a hull whose frame origin lies outside it is not fat).
 
-use kinetic_core::{ConvexGeometry, Pose, Real, Shape, Vec3};
+use kinetic_core::kds::{ConvexGeometry, Pose};
+use kinetic_core::{Real, Shape, Vec3};
 use parry3d_f64::math::Pose as ParryPose;
 use parry3d_f64::query::{self, PointQuery};
 use parry3d_f64::shape::{Ball, ConvexPolyhedron, Cuboid, Shape as ParryShape};
@@ -29,6 +30,12 @@ pub enum ShapeError {
     /// The points span no volume.
     #[error("the points of a convex hull are coplanar or degenerate")]
     Flat,
+}
+
+impl From<ShapeError> for kinetic_core::WorldError {
+    fn from(e: ShapeError) -> kinetic_core::WorldError {
+        kinetic_core::WorldError::InvalidShape(e.to_string())
+    }
 }
 
 /// A cuboid or convex hull, as a [`ConvexGeometry`] for the core.

@@ -14,11 +14,10 @@
 //! contact begins, even at a tie.
 
 use crate::axes::{AxisItems, AxisLists};
-use kinetic_core::{Bodies, CandidateStructure, PairChange, Real, ScalarKey, Shape, Vec3};
+use crate::cell_math::{Ends, box_ends};
+use kinetic_core::kds::{Bodies, PairChange, ScalarKey, ordered_pair};
+use kinetic_core::{CandidateStructure, Real, Vec3};
 use rustc_hash::FxHashSet;
-
-/// Inflation of the boxes, relative to the outer radius.
-const INFLATE: Real = 1e-9;
 
 /// The sweep over boxes: candidate pairs are the objects whose outer balls' boxes overlap.
 #[derive(Debug, Default)]
@@ -38,31 +37,6 @@ fn lower(id: u32) -> u32 {
 
 fn upper(id: u32) -> u32 {
     2 * id + 1
-}
-
-/// A box as offsets (min, max) from the object's centre.
-pub(crate) type Ends = (Vec3, Vec3);
-
-/// Object `id`'s box about its centre: its own axis-aligned box when it does not spin and its
-/// geometry gives one, the box of its outer ball otherwise; inflated.
-pub(crate) fn box_ends(bodies: &Bodies, id: u32) -> Ends {
-    let body = bodies[id as usize].as_ref().expect("a live object");
-    let r = body.shape.outer_radius();
-    let own = match &body.shape {
-        Shape::Convex(g) if body.plan.angular_velocity == Vec3::ZERO => {
-            g.local_aabb(body.plan.orientation)
-        }
-        _ => None,
-    };
-    let (lo, hi) = own.unwrap_or((Vec3::splat(-r), Vec3::splat(r)));
-    let pad = Vec3::splat(r * INFLATE);
-    (lo - pad, hi + pad)
-}
-
-/// The widest side of object `id`'s box ([`box_ends`]).
-pub(crate) fn box_width(bodies: &Bodies, id: u32) -> Real {
-    let (lo, hi) = box_ends(bodies, id);
-    (hi - lo).max_element()
 }
 
 /// The two ends of object `id`'s box.
@@ -100,14 +74,18 @@ impl Sweep {
         p(lower(a)) < p(upper(b)) && p(lower(b)) < p(upper(a))
     }
 
+    /// Links the pair of `a` and `b`, reported in order ([`ordered_pair`]).
     fn link(&mut self, a: u32, b: u32, changes: &mut Vec<PairChange>) {
+        let (a, b) = ordered_pair(a, b);
         self.partners[a as usize].push(b);
         self.partners[b as usize].push(a);
         self.pairs += 1;
         changes.push(PairChange { a, b, delta: 1 });
     }
 
+    /// Unlinks the pair of `a` and `b`, reported in order ([`ordered_pair`]).
     fn unlink(&mut self, a: u32, b: u32, changes: &mut Vec<PairChange>) {
+        let (a, b) = ordered_pair(a, b);
         for (x, y) in [(a, b), (b, a)] {
             let list = &mut self.partners[x as usize];
             let i = list.iter().position(|&p| p == y).expect("a linked pair");
@@ -135,7 +113,7 @@ impl Sweep {
             if item % 2 == 0 {
                 for &other in &active {
                     if self.overlap_on(1, id, other) && self.overlap_on(2, id, other) {
-                        out.push((id.min(other), id.max(other)));
+                        out.push(ordered_pair(id, other));
                     }
                 }
                 slot[id as usize] = active.len() as u32;
@@ -178,7 +156,7 @@ impl CandidateStructure for Sweep {
             .filter(|&o| self.overlap_on(1, id, o) && self.overlap_on(2, id, o))
             .collect();
         for o in found {
-            self.link(id.min(o), id.max(o), changes);
+            self.link(id, o, changes);
         }
     }
 
@@ -215,7 +193,7 @@ impl CandidateStructure for Sweep {
         }
         self.lists.sync(now);
         for o in self.partners[id as usize].clone() {
-            self.unlink(id.min(o), id.max(o), changes);
+            self.unlink(id, o, changes);
         }
         let ends = self.ends[id as usize].take().expect("present");
         self.lists.remove(items(bodies, id, ends));
@@ -252,9 +230,9 @@ impl CandidateStructure for Sweep {
                 .all(|k| self.overlap_on(k, a, b))
         {
             if meets {
-                self.link(a.min(b), a.max(b), changes);
+                self.link(a, b, changes);
             } else {
-                self.unlink(a.min(b), a.max(b), changes);
+                self.unlink(a, b, changes);
             }
         }
         "swap"

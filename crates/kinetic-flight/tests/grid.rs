@@ -5,7 +5,8 @@
 
 mod common;
 
-use kinetic_core::{Bodies, Body, CandidateStructure, FlightPlan, Quat, Shape, Vec3};
+use kinetic_core::kds::Bodies;
+use kinetic_core::{Body, CandidateStructure, FlightPlan, Quat, Shape, Vec3};
 use kinetic_flight::{ConvexShape, Grid};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

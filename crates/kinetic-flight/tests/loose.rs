@@ -6,7 +6,8 @@
 
 mod common;
 
-use kinetic_core::{Bodies, Body, CandidateStructure, FlightPlan, Shape, Vec3};
+use kinetic_core::kds::Bodies;
+use kinetic_core::{Body, CandidateStructure, FlightPlan, Shape, Vec3};
 use kinetic_flight::{ConvexShape, LooseGrid};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

@@ -12,7 +12,7 @@
 
 use kinetic_flight::Choice;
 use kinetic_rapier::KineticBroadPhase;
-use kinetic_rapier::scenes::{RapierScene, debris, rain};
+use kinetic_scenes::rapier::{RapierScene, debris, rain};
 use rapier3d::prelude::*;
 use std::time::Instant;
 

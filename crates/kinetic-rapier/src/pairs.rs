@@ -9,7 +9,8 @@
 //! window it is absent from: it stopped being a candidate before the positions' time and has
 //! not come back by the window's end, or its two balls stay apart over the whole window.
 
-use kinetic_core::{Body, PairChange, Real, Shape, Vec3};
+use kinetic_core::kds::{PairChange, ordered_pair};
+use kinetic_core::{Body, Real, Shape, Vec3};
 use rustc_hash::FxHashMap;
 
 /// One pair's state.
@@ -206,7 +207,7 @@ impl PairBook {
     /// Whether rapier has pair `(a, b)` by this book.
     pub(crate) fn has(&self, a: u32, b: u32) -> bool {
         self.pairs
-            .get(&(a.min(b), a.max(b)))
+            .get(&ordered_pair(a, b))
             .is_some_and(|e| e.reported)
     }
 }
@@ -322,15 +323,11 @@ pub(crate) fn proxies_meet(a: &Body, b: &Body, t0: Real, t1: Real) -> bool {
 }
 
 /// The box that `body` sweeps between `t0` and `t1`: its own box (when it does not spin and
-/// its geometry gives one) or its outer ball's, about each position on the way.
+/// its geometry gives one) or its outer ball's ([`Body::local_box`]), about each position on
+/// the way.
 fn swept_box(body: &Body, t0: Real, t1: Real) -> (Vec3, Vec3) {
     let plan = &body.plan;
-    let r = body.shape.outer_radius();
-    let own = match &body.shape {
-        Shape::Convex(g) if plan.angular_velocity == Vec3::ZERO => g.local_aabb(plan.orientation),
-        _ => None,
-    };
-    let (lo, hi) = own.unwrap_or((Vec3::splat(-r), Vec3::splat(r)));
+    let (lo, hi) = body.local_box();
     let h = (t1 - t0).max(0.0);
     let (p0, v) = (plan.position_at(t0), plan.velocity_at(t0));
     let (mut plo, mut phi) = (p0, p0);

@@ -3,7 +3,7 @@
 
 use crate::tree::{Item, Kind, ListLayout, NONE, Node, RollingTree, Side, Space, Step};
 use crate::tree::{half_side, key, plan};
-use kinetic_core::{Bodies, KineticSortedList, PairChange, ScalarKey};
+use kinetic_core::kds::{Bodies, KineticSortedList, PairChange, ScalarKey};
 use rustc_hash::FxHashMap;
 
 /// New list items and their keys, per axis.

@@ -1,7 +1,7 @@
 //! Swap events: a tangency point entering or leaving a threshold box.
 
 use crate::tree::{Kind, RollingTree, Side};
-use kinetic_core::{PairChange, Swap};
+use kinetic_core::kds::{PairChange, Swap};
 
 impl RollingTree {
     /// Processes the earliest swap of all the lists.

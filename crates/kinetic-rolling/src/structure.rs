@@ -1,7 +1,8 @@
 //! The collision tree as the simulator's candidate structure.
 
 use crate::tree::{ListLayout, NONE, RollingTree, Side, half_side};
-use kinetic_core::{Bodies, CandidateStructure, PairChange, Real, Vec3};
+use kinetic_core::kds::{Bodies, PairChange};
+use kinetic_core::{CandidateStructure, Real, Vec3};
 
 impl CandidateStructure for RollingTree {
     fn name(&self) -> &'static str {

@@ -1,6 +1,7 @@
 //! The collision tree's types and the small queries the operations share.
 
-use kinetic_core::{Bodies, EventQueue, FlightPlan, KineticSortedList, Real, ScalarKey};
+use kinetic_core::kds::{Bodies, EventQueue, KineticSortedList, ScalarKey};
+use kinetic_core::{FlightPlan, Real};
 
 /// No node, item or ball.
 pub(crate) const NONE: u32 = u32::MAX;

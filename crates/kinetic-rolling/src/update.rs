@@ -3,7 +3,8 @@
 use crate::build::Fresh;
 use crate::tree::{Item, Kind, ListLayout, NONE, RollingTree, Side, Step};
 use crate::tree::{balanced, half_side, key, plan};
-use kinetic_core::{Bodies, PairChange, Real};
+use kinetic_core::Real;
+use kinetic_core::kds::{Bodies, PairChange};
 
 impl RollingTree {
     fn make_room(&mut self, b: u32, bodies: &Bodies) {

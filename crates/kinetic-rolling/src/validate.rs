@@ -1,7 +1,8 @@
 //! The audit: every invariant recomputed from scratch.
 
 use crate::tree::{Kind, ListLayout, NONE, RollingTree, Side, balanced, half_side, key, plan};
-use kinetic_core::{Bodies, Real};
+use kinetic_core::Real;
+use kinetic_core::kds::Bodies;
 
 impl RollingTree {
     /// Checks the tree's shape and balance, the lists (sorted, scheduled, with the items and

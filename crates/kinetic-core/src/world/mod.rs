@@ -10,8 +10,8 @@ pub(crate) mod step;
 mod validate;
 mod walls;
 
+use crate::body::{Body, Shape};
 use crate::brute_force::BruteForce;
-use crate::geometry::ConvexGeometry;
 use crate::math::{Real, Vec3};
 use crate::plan::FlightPlan;
 use crate::queue::EventQueue;
@@ -19,7 +19,6 @@ use crate::structure::{CandidateStructure, PairChange};
 pub use cells::ElasticCells;
 pub use pairs::PairCertificate;
 use std::collections::BTreeMap;
-use std::sync::Arc;
 
 /// Where objects move.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -50,64 +49,6 @@ pub struct Walls {
     pub max: Vec3,
 }
 
-/// The shape of an object. The core knows balls; other convex shapes come with their modules
-/// (the free-flight module's cuboids and convex hulls) through [`ConvexGeometry`].
-#[derive(Clone, Debug)]
-pub enum Shape {
-    /// A ball of the given radius.
-    Ball {
-        /// Its radius.
-        radius: Real,
-    },
-    /// Any other convex shape.
-    Convex(Arc<dyn ConvexGeometry>),
-}
-
-impl Shape {
-    /// The radius of the smallest ball around the centre that holds the shape.
-    #[inline]
-    pub fn outer_radius(&self) -> Real {
-        match self {
-            Shape::Ball { radius } => *radius,
-            Shape::Convex(g) => g.outer_radius(),
-        }
-    }
-
-    /// The radius of the largest ball around the centre inside the shape.
-    pub fn inner_radius(&self) -> Real {
-        match self {
-            Shape::Ball { radius } => *radius,
-            Shape::Convex(g) => g.inner_radius(),
-        }
-    }
-
-    /// The ball's radius, if the shape is a ball.
-    #[inline]
-    pub fn ball_radius(&self) -> Option<Real> {
-        match self {
-            Shape::Ball { radius } => Some(*radius),
-            Shape::Convex(_) => None,
-        }
-    }
-
-    /// The shape's name in scene files.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Shape::Ball { .. } => "ball",
-            Shape::Convex(g) => g.name(),
-        }
-    }
-}
-
-/// A live object: its shape and flight plan.
-#[derive(Clone, Debug)]
-pub struct Body {
-    /// Its shape.
-    pub shape: Shape,
-    /// Its flight plan.
-    pub plan: FlightPlan,
-}
-
 /// An object's id: its index in the order objects were added (ids are never reused).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct ObjectId(pub u32);
@@ -134,6 +75,11 @@ pub struct ContactEvent {
     pub kind: ContactKind,
 }
 
+/// The largest size, coordinate, speed or acceleration a world takes: certificates square
+/// products of these, and must stay finite. (The scene format bounds how far an object gets
+/// over a horizon in the same spirit.)
+pub const MAX_MAGNITUDE: Real = 1e150;
+
 /// Bad input to the world, or a run that cannot go on.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum WorldError {
@@ -152,6 +98,22 @@ pub enum WorldError {
         /// The object (the id it would have had).
         object: u32,
         /// The value given.
+        value: Real,
+    },
+    /// A shape that cannot be built (see `kinetic_flight::ShapeError`).
+    #[error("shape: {0}")]
+    InvalidShape(String),
+    /// A size or a flight plan's number is beyond [`MAX_MAGNITUDE`]: the certificates'
+    /// arithmetic would overflow.
+    #[error(
+        "object {object}: {what} {value:e} is beyond {MAX_MAGNITUDE:e}, the largest magnitude computed exactly"
+    )]
+    OutOfRange {
+        /// The object.
+        object: u32,
+        /// Which number.
+        what: &'static str,
+        /// Its magnitude.
         value: Real,
     },
     /// A flight plan holds a non-finite number.
@@ -182,7 +144,8 @@ pub enum WorldError {
     },
     /// Too many events at one instant: a Zeno configuration.
     #[error(
-        "more than {limit} events at time {time}: a Zeno configuration (objects {a} and {b} last)"
+        "more than {limit} events at time {time}: a Zeno configuration ({} last)",
+        if a == b { format!("object {a} against a wall") } else { format!("objects {a} and {b}") }
     )]
     Zeno {
         /// The instant.
@@ -461,6 +424,13 @@ impl World {
                 value: radius,
             });
         }
+        if radius > MAX_MAGNITUDE {
+            return Err(WorldError::OutOfRange {
+                object,
+                what: "size",
+                value: radius,
+            });
+        }
         if let Shape::Convex(_) = shape {
             let why = match (self.kind, self.response) {
                 (WorldKind::Plane, _) => Some("a plane world holds balls only"),
@@ -538,6 +508,20 @@ impl World {
     fn flatten(&self, mut plan: FlightPlan, object: u32) -> Result<FlightPlan, WorldError> {
         if !plan.is_finite() {
             return Err(WorldError::NonFinitePlan { object });
+        }
+        for (what, v) in [
+            ("position", plan.position),
+            ("velocity", plan.velocity),
+            ("acceleration", plan.acceleration),
+        ] {
+            let value = v.abs().max_element();
+            if value > MAX_MAGNITUDE {
+                return Err(WorldError::OutOfRange {
+                    object,
+                    what,
+                    value,
+                });
+            }
         }
         if self.kind == WorldKind::Plane {
             plan.position.z = 0.0;

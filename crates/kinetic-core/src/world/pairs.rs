@@ -14,6 +14,7 @@ use super::{ContactEvent, ContactKind, ObjectId, Response, World, WorldKind};
 use crate::certificates::ball_ball_gap;
 use crate::geometry::{Found, Mover, search};
 use crate::math::Real;
+use crate::pair_key::pair_key;
 use crate::poly::Poly;
 use crate::roots::{Root, Roots, roots_after_zero};
 use crate::structure::PairChange;
@@ -367,10 +368,6 @@ pub(crate) struct PairTable {
     live: usize,
 }
 
-fn pair_key(a: u32, b: u32) -> u64 {
-    (u64::from(a) << 32) | u64::from(b)
-}
-
 impl PairTable {
     pub(crate) fn len(&self) -> usize {
         self.live
@@ -385,7 +382,7 @@ impl PairTable {
     }
 
     pub(crate) fn find(&self, a: u32, b: u32) -> Option<u32> {
-        self.index.get(&pair_key(a.min(b), a.max(b))).copied()
+        self.index.get(&pair_key(a, b)).copied()
     }
 
     pub(crate) fn slots_of(&self, object: u32) -> Vec<u32> {

@@ -1,6 +1,7 @@
 //! Driving a candidate structure event by event, with the candidate set its changes describe.
 
-use kinetic_core::{Bodies, Body, CandidateStructure, FlightPlan, PairChange, Shape, Vec3};
+use kinetic_core::kds::{Bodies, PairChange};
+use kinetic_core::{Body, CandidateStructure, FlightPlan, Shape, Vec3};
 use std::collections::{BTreeMap, BTreeSet};
 
 /// A structure with the candidate set its changes describe.

@@ -1,0 +1,97 @@
+//! # kinetic-collide
+//!
+//! Exact collision detection for moving objects with kinetic data structures, after
+//! "Kinetic Collision Detection for Convex Fat Objects" (Abam, de Berg, Poon, Speckmann).
+//! Objects move along flight plans; certificates prove pairs apart, their failure times are
+//! computed from the plans, and failures are processed in time order, so every contact is
+//! found at its exact time, whatever the speeds.
+//!
+//! Build a world, add objects with flight plans, change a plan, advance, drain the events:
+//!
+//! ```
+//! use kinetic_collide::{ContactKind, FlightPlan, Vec3, World, WorldKind};
+//!
+//! let mut world = World::new(WorldKind::Free);
+//! let a = world.add_ball(0.5, FlightPlan::linear(Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0)))?;
+//! let b = world.add_ball(0.5, FlightPlan::at_rest(Vec3::new(4.0, 0.0, 0.0)))?;
+//! world.advance_to(2.0)?;
+//! // Push `b` away along +x from t = 2 on: only b's certificates are rescheduled.
+//! world.set_plan(b, FlightPlan::linear(Vec3::new(4.0, 0.0, 0.0), Vec3::new(0.5, 0.0, 0.0)).starting_at(2.0))?;
+//! world.advance_to(10.0)?;
+//! let events = world.drain_events();
+//! assert_eq!(events.len(), 2); // a catches b at t = 4 and is through it at t = 8
+//! assert_eq!((events[0].a, events[0].b, events[0].kind), (a, b, ContactKind::Begin));
+//! assert!((events[0].time - 4.0).abs() < 1e-12);
+//! world.remove(a)?;
+//! # Ok::<(), kinetic_collide::WorldError>(())
+//! ```
+//!
+//! Balls rolling on a plane get the collision tree of the paper's Section 2
+//! ([`RollingTree`]) as their candidate structure:
+//!
+//! ```
+//! use kinetic_collide::{FlightPlan, ListLayout, Response, RollingTree, Vec3, World, WorldKind};
+//!
+//! let tree = Box::new(RollingTree::new(ListLayout::PerNode));
+//! let mut world = World::with_structure(WorldKind::Plane, Response::Elastic, None, tree)?;
+//! world.add_balls([
+//!     (0.1, FlightPlan::linear(Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0))),
+//!     (10.0, FlightPlan::at_rest(Vec3::new(5.0, 0.0, 0.0))),
+//! ])?;
+//! world.advance_to(10.0)?;
+//! // The marble meets the big ball when their tangency points are 2 sqrt(0.1 * 10) = 2 apart.
+//! assert_eq!(world.drain_events()[0].time, 3.0);
+//! # Ok::<(), kinetic_collide::WorldError>(())
+//! ```
+//!
+//! Bad input gives a typed error ([`WorldError`], [`scene::SceneError`]) naming what is
+//! wrong; nothing panics on user data. A scene file ([`scene::Scene`]) runs to its exact event
+//! log with [`run::run_scene`]; the format is in `docs/scene-format.md`.
+//!
+//! ## Features
+//!
+//! - `rapier`: the kinetic broad phase for rapier3d 0.27, as [`rapier`] (`kinetic-rapier`).
+//! - `render`: the headless wgpu renderer, as [`render`] (`kinetic-render`).
+//!
+//! The default build holds only the kinetic core, the rolling and flight structures and the
+//! scene format. The pieces for building your own kinetic structure (event queue,
+//! polynomials, roots, certificates, sorted lists, cones) are in [`kds`].
+#![warn(missing_docs)]
+#![forbid(unsafe_code)]
+
+pub mod run;
+pub mod scene;
+
+pub use kinetic_core::{
+    Body, BruteForce, CandidateStructure, ContactEvent, ContactKind, ElasticCells, FlightPlan,
+    MAX_MAGNITUDE, ObjectId, Quat, Real, Response, Shape, Stats, StepKind, Vec3, Walls, World,
+    WorldError, WorldKind,
+};
+pub use kinetic_flight::{ConvexShape, Grid, Guards, LooseGrid, ShapeError, Sweep};
+pub use kinetic_rolling::{ListLayout, RollingTree};
+pub use run::{RunError, RunOutput, StructureName};
+pub use scene::{Scene, SceneError};
+
+/// The vector and quaternion crate of the kinetic math (f64), as its types appear here.
+pub use glam;
+/// parry3d-f64, whose shapes back [`ConvexShape`] (see [`ConvexShape::parry`]).
+pub use parry3d_f64 as parry;
+
+/// The kinetic broad phase for rapier3d 0.27 (feature `rapier`).
+#[cfg(feature = "rapier")]
+pub use kinetic_rapier as rapier;
+
+/// The headless wgpu renderer (feature `render`).
+#[cfg(feature = "render")]
+pub use kinetic_render as render;
+
+/// Building blocks of kinetic data structures, for people who build their own: the indexed
+/// event queue, polynomials and their roots, certificates, kinetic sorted lists, geometry,
+/// and the cones and choice rules of the flight structures.
+pub mod kds {
+    pub use kinetic_core::kds::*;
+    pub use kinetic_flight::{
+        Choice, Cone, ConeSet, GuardGrid, RHO_MAX, SIGMA_MAX, choose, fatness, guard_fatness,
+        scale_factor,
+    };
+}

@@ -1,0 +1,164 @@
+//! The kinetic broad phase: colliders as proxies in a kinetic structure, bodies on flight
+//! plans fitted to rapier's integrator, and the pairs handed to rapier (see the crate docs).
+//!
+//! Split by operation: `api.rs` (building and asking), `proxies.rs` (colliders in and out of
+//! the structure), `plans.rs` (bodies' plans and slack), `update.rs` (rapier's call and the
+//! structure's events), `validate.rs`.
+
+mod api;
+mod plans;
+mod proxies;
+mod stats;
+#[cfg(test)]
+mod tests;
+mod update;
+mod validate;
+
+pub use stats::{BroadPhaseStats, StepStats};
+
+use crate::motions::ByBody;
+use crate::pairs::{PairBook, PairOut};
+use crate::proxy::Hold;
+use kinetic_core::kds::PairChange;
+use kinetic_core::{Body, CandidateStructure, FlightPlan, Real, Vec3};
+use kinetic_flight::Choice;
+use rapier3d::prelude::*;
+
+/// Steps over which a body must stay within half its slack to be planned at rest.
+const REST_STEPS: Real = 30.0;
+/// A body whose last [`RESTLESS_RUN`] re-plans each came within this many position updates of
+/// the one before has its slack doubled...
+const RESTLESS_UPDATES: u64 = 2;
+/// ... (four, so five re-plans in all: not a body that starts to fall, which takes up to three
+/// to learn its acceleration)...
+const RESTLESS_RUN: u32 = 4;
+/// ... up to this many times (a slack 8 times the base)...
+const MAX_GROWTH: u32 = 3;
+/// ... and halved at a re-plan that comes at least this many updates after the last.
+const CALM_UPDATES: u64 = 60;
+
+/// Moving colliders whose radii (the middle 98%) are within this factor get the loose grid.
+const SIZES_ALIKE: Real = 8.0;
+
+/// The loose grid's regions cover at most this many steps of a body's flight: a body
+/// coasting slowly in a pile holds a region hugging its box, not one stretched over two box
+/// widths of its drift (at the end of the rain at 1e4: 23 candidates per body, not 62).
+const REGION_STEPS: Real = 4.0;
+
+/// A candidate structure the broad phase can hold across threads.
+type Structure = Box<dyn CandidateStructure + Send + Sync>;
+
+/// A collider as the broad phase holds it.
+#[derive(Clone, Copy, Debug)]
+struct Proxy {
+    handle: ColliderHandle,
+    hold: Hold,
+    /// Grown to cover the time between its change and the structure's clock, until the
+    /// positions reach this time.
+    grown_until: Option<Real>,
+}
+
+/// A moving body's plan and what the broad phase has seen of it.
+#[derive(Clone, Debug)]
+struct Motion {
+    plan: FlightPlan,
+    /// The least base slack of its colliders.
+    slack: Real,
+    /// The slack is the base times `2^growth`: doubled for a body that keeps re-planning
+    /// (one jostled in a pile), halved back once it keeps its plans.
+    growth: u32,
+    /// The position update of its last re-plan, and how many re-plans running came within
+    /// [`RESTLESS_UPDATES`] of the one before.
+    replanned: u64,
+    restless: u32,
+    colliders: Vec<u32>,
+    /// Its velocity at the last position update that moved it, and which update that was.
+    last_v: Vec3,
+    seen: u64,
+    /// The acceleration it showed over the last update (if seen on the one before).
+    last_a: Option<Vec3>,
+    /// The acceleration it showed over two updates running: what its plan assumes.
+    steady_a: Vec3,
+    /// Whether it is in `KineticBroadPhase::moving`.
+    listed: bool,
+}
+
+/// The broad phase's clock: the time of the colliders' positions and of the structure.
+#[derive(Clone, Copy, Debug, Default)]
+struct Clock {
+    /// The positions' time: the sum of the steps integrated so far.
+    pos: Real,
+    /// The structure's time: the end of the window it has looked ahead to.
+    kds: Real,
+    /// The length of the current step, and how much of it is still to be integrated.
+    dt: Real,
+    left: Real,
+    /// Whether the next call is the start of a step (the user's changes).
+    in_step: bool,
+    /// Position updates seen.
+    updates: u64,
+}
+
+/// The kinetic broad phase: implements rapier3d 0.27's [`BroadPhase`].
+pub struct KineticBroadPhase {
+    choice: Option<Choice>,
+    slack_fraction: Real,
+    min_slack: Real,
+    structure: Option<Structure>,
+    bodies: Vec<Option<Body>>,
+    /// Per collider, the version of its proxy's plan (bumped at every change), for the pair
+    /// book's gate to know when to ask again.
+    plans: Vec<u32>,
+    proxies: Vec<Option<Proxy>>,
+    /// Per collider index, the generation of the collider held there and the index of its
+    /// moving body (`u32::MAX` for a fixed one): all a position update reads of each moved
+    /// collider, kept compact because rapier lists them in its islands' order.
+    movers: Vec<Option<(u32, u32)>>,
+    /// The bodies moved in this position update, a bit per body index: they are looked at
+    /// in index order, each once, whatever order rapier lists their colliders in.
+    moved_bits: Vec<u64>,
+    motions: ByBody<Motion>,
+    /// Bodies whose plans are not at rest, in the order they started moving.
+    moving: Vec<RigidBodyHandle>,
+    /// Colliders whose proxies may be grown (checked when the positions move on).
+    grown: Vec<u32>,
+    /// This call's [`KineticBroadPhase::lag_growth`], once worked out.
+    lag_reach: Option<Real>,
+    book: PairBook,
+    clock: Clock,
+    /// The window of the last call that handed pairs over.
+    emitted: (Real, Real),
+    changes: Vec<PairChange>,
+    out: Vec<PairOut>,
+    stats: BroadPhaseStats,
+    step: StepStats,
+    audit: bool,
+    audit_error: Option<String>,
+}
+
+impl Proxy {
+    /// Its entry in [`KineticBroadPhase::movers`]: the collider's generation and the index
+    /// of its moving body (`u32::MAX` when fixed).
+    fn mover(&self) -> (u32, u32) {
+        let body = match self.hold {
+            Hold::Moving { body, .. } => body.into_raw_parts().0,
+            Hold::Fixed { .. } => u32::MAX,
+        };
+        (self.handle.into_raw_parts().1, body)
+    }
+}
+
+impl Default for KineticBroadPhase {
+    fn default() -> Self {
+        KineticBroadPhase::new()
+    }
+}
+
+impl std::fmt::Debug for KineticBroadPhase {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("KineticBroadPhase")
+            .field("structure", &self.structure_name())
+            .field("stats", &self.stats)
+            .finish_non_exhaustive()
+    }
+}

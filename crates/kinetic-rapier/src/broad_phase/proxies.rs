@@ -1,0 +1,254 @@
+//! Colliders as proxies: put into the structure, taken out, and the structure picked for
+//! the first ones.
+
+use super::{KineticBroadPhase, Proxy};
+use super::{REGION_STEPS, SIZES_ALIKE};
+use crate::proxy::Hold;
+use kinetic_core::{Body, FlightPlan, Real, Shape};
+use kinetic_flight::{Choice, ConvexShape, Grid, Guards, LooseGrid, Sweep};
+use rapier3d::prelude::*;
+
+impl KineticBroadPhase {
+    pub(super) fn known(&self, h: ColliderHandle) -> bool {
+        let i = h.into_raw_parts().0 as usize;
+        self.proxies
+            .get(i)
+            .and_then(|p| p.as_ref())
+            .is_some_and(|p| p.handle == h)
+    }
+
+    /// The structure's shape for a hold.
+    fn shape(&self, hold: &Hold, choice: Choice) -> Shape {
+        match *hold {
+            Hold::Moving {
+                body,
+                radius,
+                slack,
+            } => {
+                // The hold's radius has its base slack; a grown slack adds the rest.
+                let extra = self
+                    .motions
+                    .get(body)
+                    .map_or(0.0, |m| slack * (m.scale() - 1.0));
+                Shape::Ball {
+                    radius: radius + extra,
+                }
+            }
+            Hold::Fixed { min, max } => {
+                let half = (max - min) / 2.0;
+                match (choice, ConvexShape::cuboid(half)) {
+                    (Choice::Sweep | Choice::Grid | Choice::Loose, Ok(cuboid)) => {
+                        cuboid.into_shape()
+                    }
+                    _ => Shape::Ball {
+                        radius: half.length().max(1e-9),
+                    },
+                }
+            }
+        }
+    }
+
+    /// The structure's plan for a collider held by `hold`.
+    fn plan_of(&self, hold: &Hold) -> FlightPlan {
+        match *hold {
+            Hold::Fixed { min, max } => FlightPlan::at_rest((min + max) / 2.0),
+            Hold::Moving { body, .. } => self.motions[body].plan,
+        }
+    }
+
+    /// Drops collider `h` and its pairs without events (it was removed or disabled: rapier's
+    /// narrow phase drops its pairs itself).
+    pub(super) fn remove_collider(&mut self, h: ColliderHandle) {
+        if self.known(h) {
+            self.detach(h.into_raw_parts().0, true);
+        }
+    }
+
+    /// Takes held collider `i` out of the structure and forgets its proxy. Its pairs go
+    /// silently, or (`silent` false) drop out as usual to be deleted once out for a window.
+    pub(super) fn detach(&mut self, i: u32, silent: bool) {
+        self.take_out(i);
+        let mut changes = std::mem::take(&mut self.changes);
+        if silent {
+            self.book.forget(i, &mut changes);
+        } else {
+            self.book.apply(&mut changes, self.clock.kds);
+        }
+        self.changes = changes;
+        let proxy = self.proxies[i as usize].take().expect("held");
+        self.movers[i as usize] = None;
+        if let Hold::Moving { body, .. } = proxy.hold
+            && let Some(m) = self.motions.get_mut(body)
+        {
+            m.colliders.retain(|&c| c != i);
+            if m.colliders.is_empty() {
+                self.motions.remove(body);
+                self.moving.retain(|&b| b != body);
+            }
+        }
+    }
+
+    /// Takes collider `i` out of the structure, leaving its pair changes in `self.changes`.
+    pub(super) fn take_out(&mut self, i: u32) {
+        if let Some(s) = self.structure.as_mut() {
+            s.remove(i, &self.bodies, self.clock.kds, &mut self.changes);
+        }
+        self.bodies[i as usize] = None;
+        self.plans[i as usize] = self.plans[i as usize].wrapping_add(1);
+    }
+
+    /// Puts collider `i` with `hold` into the structure at its clock, grown by `grow` (a
+    /// change that happened `kds - pos` before the structure's clock).
+    pub(super) fn put_in(&mut self, i: u32, hold: Hold, grow: Real) {
+        let choice = self.structure_choice();
+        let mut shape = self.shape(&hold, choice);
+        if grow > 0.0 {
+            shape = Shape::Ball {
+                radius: shape.outer_radius() + grow,
+            };
+        }
+        let plan = self.plan_of(&hold);
+        self.bodies[i as usize] = Some(Body { shape, plan });
+        self.plans[i as usize] = self.plans[i as usize].wrapping_add(1);
+        let s = self.structure.as_mut().expect("a structure");
+        s.insert(i, &self.bodies, self.clock.kds, &mut self.changes);
+        self.proxies[i as usize].as_mut().expect("held").grown_until =
+            (grow > 0.0).then_some(self.clock.kds);
+        if grow > 0.0 {
+            self.grown.push(i);
+        }
+        self.stats.inserts += 1;
+        self.step.inserts += 1;
+    }
+
+    /// The structure: the caller's, or the one picked for the first colliders, or the grid
+    /// before any.
+    fn structure_choice(&self) -> Choice {
+        self.choice.unwrap_or(Choice::Grid)
+    }
+
+    fn grow_slots(&mut self, i: u32) {
+        let need = i as usize + 1;
+        if self.bodies.len() < need {
+            self.bodies.resize(need, None);
+            self.plans.resize(need, 0);
+            self.proxies.resize(need, None);
+            self.movers.resize(need, None);
+        }
+    }
+
+    /// Adds the colliders `new` (enabled, not held) at the positions' time.
+    pub(super) fn install(
+        &mut self,
+        new: &[ColliderHandle],
+        colliders: &ColliderSet,
+        bodies: &RigidBodySet,
+        params: &IntegrationParameters,
+        update: u64,
+    ) {
+        if new.is_empty() {
+            return;
+        }
+        let holds: Vec<(ColliderHandle, Hold)> = new
+            .iter()
+            .filter_map(|&h| {
+                let co = colliders.get(h)?;
+                Some((
+                    h,
+                    Hold::of(co, bodies, params, self.slack_fraction, self.min_slack),
+                ))
+            })
+            .collect();
+        // Plans first: a body seen for the first time gets a plan fitted to its state now; a
+        // body already moving keeps its plan for the collider it gains.
+        for &(h, hold) in &holds {
+            let i = h.into_raw_parts().0;
+            self.grow_slots(i);
+            if let Hold::Moving { body, slack, .. } = hold {
+                let fresh = !self.motions.contains(body);
+                let m = self.motion_for(body, &bodies[body], slack);
+                m.colliders.push(i);
+                if fresh {
+                    m.seen = update;
+                    self.refit(body, bodies, params, true);
+                }
+            }
+            let proxy = Proxy {
+                handle: h,
+                hold,
+                grown_until: None,
+            };
+            self.movers[i as usize] = Some(proxy.mover());
+            self.proxies[i as usize] = Some(proxy);
+        }
+        if self.structure.is_none() {
+            let choice = self.choice.unwrap_or_else(|| pick_structure(&holds));
+            self.choice = Some(choice);
+            self.structure = Some(match choice {
+                Choice::Sweep => Box::new(Sweep::new()),
+                Choice::Guards => Box::new(Guards::new(1.0)),
+                // Both grids give a fast body's region at least a step of flight: a shot
+                // then costs an event a step, not one per cell or per two widths it flies.
+                Choice::Grid => Box::new(Grid::new().with_least_flight(params.dt as Real)),
+                Choice::Loose => {
+                    let dt = params.dt as Real;
+                    Box::new(
+                        LooseGrid::new()
+                            .with_horizon(REGION_STEPS * dt)
+                            .with_least_flight(dt),
+                    )
+                }
+            });
+        }
+        let grow = self.lag_growth();
+        if grow == 0.0 {
+            // Level with the structure's clock: all at once (an empty structure builds in bulk).
+            let choice = self.structure_choice();
+            let ids: Vec<u32> = holds.iter().map(|(h, _)| h.into_raw_parts().0).collect();
+            for (h, hold) in &holds {
+                let i = h.into_raw_parts().0 as usize;
+                self.bodies[i] = Some(Body {
+                    shape: self.shape(hold, choice),
+                    plan: self.plan_of(hold),
+                });
+                self.plans[i] = self.plans[i].wrapping_add(1);
+            }
+            let s = self.structure.as_mut().expect("a structure");
+            s.insert_many(&ids, &self.bodies, self.clock.kds, &mut self.changes);
+            self.stats.inserts += ids.len() as u64;
+            self.step.inserts += ids.len() as u64;
+            self.book.apply(&mut self.changes, self.clock.kds);
+            return;
+        }
+        for (h, hold) in holds {
+            let i = h.into_raw_parts().0;
+            let g = grow + self.own_reach(&hold);
+            self.put_in(i, hold, g);
+            self.book.apply(&mut self.changes, self.clock.kds);
+        }
+    }
+}
+
+/// The structure for the first colliders `holds`: the loose grid when the moving ones are of
+/// alike sizes (the middle 98% of their radii within a factor [`SIZES_ALIKE`]: a rain, a
+/// pile), the grid otherwise (a debris field, where small pieces drift as fast as large ones
+/// and would leave regions sized by their own width every few steps).
+fn pick_structure(holds: &[(ColliderHandle, Hold)]) -> Choice {
+    let mut r: Vec<Real> = holds
+        .iter()
+        .filter_map(|(_, h)| match *h {
+            Hold::Moving { radius, .. } if radius > 0.0 && radius.is_finite() => Some(radius),
+            _ => None,
+        })
+        .collect();
+    if r.is_empty() {
+        return Choice::Grid;
+    }
+    r.sort_unstable_by(Real::total_cmp);
+    let pick = |q: Real| r[((r.len() - 1) as Real * q).round() as usize];
+    if pick(0.99) <= SIZES_ALIKE * pick(0.01) {
+        Choice::Loose
+    } else {
+        Choice::Grid
+    }
+}

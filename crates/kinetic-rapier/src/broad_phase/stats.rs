@@ -1,0 +1,43 @@
+//! The broad phase's figures: over the whole run and over the last step.
+
+/// Figures over the whole run.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BroadPhaseStats {
+    /// Physics steps seen.
+    pub steps: u64,
+    /// Pairs rapier has now.
+    pub pairs: usize,
+    /// Pairs the kinetic structure holds now (rapier also keeps, for up to a step, pairs
+    /// that have just dropped out).
+    pub candidates: usize,
+    /// Events of the kinetic structure processed.
+    pub events: u64,
+    /// Bodies re-planned because they left their plan's slack (or came to rest).
+    pub replans: u64,
+    /// Colliders put into the structure (new ones, changed ones, and proxies grown or shrunk
+    /// around a change between steps).
+    pub inserts: u64,
+    /// `AddPair` events sent.
+    pub added: u64,
+    /// `DeletePair` events sent.
+    pub deleted: u64,
+    /// Times a body that kept re-planning had its slack doubled.
+    pub slack_growths: u64,
+    /// Times a body with grown slack that then kept its plan had it halved.
+    pub slack_shrinks: u64,
+}
+
+/// Figures over the last physics step.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StepStats {
+    /// Events of the kinetic structure processed.
+    pub events: u64,
+    /// Bodies re-planned.
+    pub replans: u64,
+    /// Colliders put into the structure.
+    pub inserts: u64,
+    /// `AddPair` events sent.
+    pub added: u64,
+    /// `DeletePair` events sent.
+    pub deleted: u64,
+}

@@ -1,0 +1,268 @@
+//! rapier's call: the user's changes and the bodies moved, then the structure's events over
+//! the coming step and the pairs handed over.
+
+use super::{KineticBroadPhase, StepStats};
+use crate::pairs::{Gate, PairOut, proxies_gate};
+use crate::proxy::{Hold, centre_of_mass, dvec};
+use kinetic_core::{FlightPlan, Real, Vec3};
+use rapier3d::prelude::*;
+
+impl BroadPhase for KineticBroadPhase {
+    fn update(
+        &mut self,
+        params: &IntegrationParameters,
+        colliders: &ColliderSet,
+        bodies: &RigidBodySet,
+        modified_colliders: &[ColliderHandle],
+        removed_colliders: &[ColliderHandle],
+        events: &mut Vec<BroadPhasePairEvent>,
+    ) {
+        // rapier 0.27: one call with the user's changes at the start of a step, then one after
+        // each position update, the updates together one step long.
+        let dt = params.dt as Real;
+        let starts_step = !self.clock.in_step;
+        if starts_step {
+            self.clock.dt = dt;
+            self.clock.left = dt;
+            self.clock.in_step = true;
+            self.stats.steps += 1;
+            self.step = StepStats::default();
+        } else {
+            self.clock.pos += dt;
+            self.clock.left -= dt;
+            self.clock.updates += 1;
+            if self.clock.left <= 1e-4 * self.clock.dt {
+                self.clock.in_step = false;
+            }
+        }
+        let update = self.clock.updates;
+        self.lag_reach = None;
+
+        for &h in removed_colliders {
+            self.remove_collider(h);
+        }
+
+        let mut new = Vec::new();
+        let mut moved: Vec<RigidBodyHandle> = Vec::new();
+        for &h in modified_colliders {
+            if !starts_step {
+                // After a position update a held collider has only moved with its body (only
+                // the user changes shapes, parents and body types, at the start of a step).
+                let (i, generation) = h.into_raw_parts();
+                if let Some(Some((g, body))) = self.movers.get(i as usize)
+                    && *g == generation
+                {
+                    if *body != u32::MAX {
+                        let (word, bit) = (*body as usize / 64, *body % 64);
+                        if self.moved_bits.len() <= word {
+                            self.moved_bits.resize(word + 1, 0);
+                        }
+                        self.moved_bits[word] |= 1 << bit;
+                    }
+                    continue;
+                }
+            }
+            let Some(co) = colliders.get(h) else { continue };
+            if !co.is_enabled() {
+                self.remove_collider(h);
+                continue;
+            }
+            if !self.known(h) {
+                new.push(h);
+                continue;
+            }
+            let i = h.into_raw_parts().0 as usize;
+            let held = self.proxies[i].expect("known").hold;
+            let hold = Hold::of(co, bodies, params, self.slack_fraction, self.min_slack);
+            if !held.same(&hold) {
+                // A new shape, body or body type: held afresh.
+                self.detach(i as u32, false);
+                new.push(h);
+            } else if let Hold::Moving { body, .. } = hold {
+                moved.push(body);
+            }
+        }
+
+        // Bodies that moved: what they showed of their acceleration, then their plans.
+        let mut seen_moving = 0;
+        let step_dt = self.clock.dt.max(dt);
+        let substeps = params.num_solver_iterations.get() as Real;
+        for word in 0..self.moved_bits.len() {
+            while self.moved_bits[word] != 0 {
+                let bits = self.moved_bits[word];
+                self.moved_bits[word] = bits & (bits - 1);
+                let index = word * 64 + bits.trailing_zeros() as usize;
+                let Some(b) = self.motions.handle_at(index) else {
+                    continue;
+                };
+                moved.push(b);
+            }
+        }
+        for &b in &moved {
+            let Some(rb) = bodies.get(b) else { continue };
+            let Some(m) = self.motions.get_mut(b) else {
+                continue;
+            };
+            if m.seen == update && !starts_step {
+                continue;
+            }
+            let v = dvec(rb.linvel());
+            if !starts_step {
+                if m.seen.wrapping_add(1) == update {
+                    let a = (v - m.last_v) / dt;
+                    if let Some(prev) = m.last_a {
+                        let agree = |x: Vec3, y: Vec3| {
+                            (x - y).length() <= 1e-3 * x.length().max(y.length()) + 1e-3
+                        };
+                        if agree(a, prev) {
+                            m.steady_a = a;
+                        } else if !agree(a, m.steady_a) && !agree(prev, m.steady_a) {
+                            // Two updates running off the steady acceleration: contact forces
+                            // (a body resting on others, a pile settling). Plan it coasting,
+                            // which a supported body keeps far longer than free fall.
+                            m.steady_a = Vec3::ZERO;
+                        }
+                    }
+                    m.last_a = Some(a);
+                } else {
+                    m.last_a = None;
+                }
+                m.last_v = v;
+                m.seen = update;
+            }
+            // Most bodies keep their plans: checked here, with no second look-up.
+            if m.keeps_plan(centre_of_mass(rb), v, self.clock.pos, step_dt, substeps) {
+                seen_moving += usize::from(m.listed && m.seen == update);
+                continue;
+            }
+            if let Some(resized) = self.refit(b, bodies, params, false) {
+                self.replan(b, resized);
+            }
+            if self
+                .motions
+                .get(b)
+                .is_some_and(|m| m.listed && m.seen == update)
+            {
+                seen_moving += 1;
+            }
+        }
+        self.install(&new, colliders, bodies, params, update);
+
+        // Unless every moving body moved in this update, some went to sleep or stopped.
+        if !starts_step && seen_moving < self.moving.len() {
+            // Bodies that did not move in this update went to sleep or stopped: at rest.
+            let mut k = 0;
+            while k < self.moving.len() {
+                let b = self.moving[k];
+                let seen = self.motions.get(b).is_some_and(|m| m.seen == update);
+                if !seen && bodies.contains(b) {
+                    let t = self.clock.pos;
+                    let m = self.motions.get_mut(b).expect("listed");
+                    let x = centre_of_mass(&bodies[b]);
+                    m.plan = FlightPlan::at_rest(x).starting_at(t);
+                    m.listed = false;
+                    m.last_a = None;
+                    self.moving.swap_remove(k);
+                    self.replan(b, false);
+                } else {
+                    k += 1;
+                }
+            }
+            // Proxies grown over a lag the positions have now caught up with.
+            let pos = self.clock.pos;
+            let proxies = &self.proxies;
+            let mut grown = std::mem::take(&mut self.grown);
+            grown.sort_unstable();
+            grown.dedup();
+            let (due, waiting): (Vec<u32>, Vec<u32>) = grown
+                .into_iter()
+                .filter(|&i| proxies[i as usize].is_some_and(|p| p.grown_until.is_some()))
+                .partition(|&i| proxies[i as usize].is_some_and(|p| p.grown_until <= Some(pos)));
+            self.grown = waiting;
+            for i in due {
+                let proxy = self.proxies[i as usize].expect("held");
+                self.take_out(i);
+                let lag = self.clock.kds > self.clock.pos;
+                let grow = if lag {
+                    self.lag_growth() + self.own_reach(&proxy.hold)
+                } else {
+                    0.0
+                };
+                self.put_in(i, proxy.hold, grow);
+                self.book.apply(&mut self.changes, self.clock.kds);
+            }
+        }
+
+        // Look ahead over the coming step.
+        self.advance(self.clock.pos + self.clock.dt);
+
+        // The start of a step with no change since the last call: nothing new to hand over.
+        let window = (self.clock.pos, self.clock.kds);
+        if !starts_step || self.book.take_changed() || window != self.emitted {
+            let (bodies, plans, clock) = (&self.bodies, &self.plans, self.clock);
+            self.book.emit(
+                clock.pos,
+                clock.kds,
+                |a, b| match (&bodies[a as usize], &bodies[b as usize]) {
+                    (Some(x), Some(y)) => proxies_gate(x, y, clock.pos, clock.kds),
+                    _ => Gate {
+                        meet: true,
+                        wake: Real::NEG_INFINITY,
+                    },
+                },
+                |i| plans[i as usize],
+                &mut self.out,
+            );
+            self.emitted = window;
+        }
+        for o in self.out.drain(..) {
+            let (a, b, add) = match o {
+                PairOut::Add(a, b) => (a, b, true),
+                PairOut::Delete(a, b) => (a, b, false),
+            };
+            let (Some(pa), Some(pb)) = (self.proxies[a as usize], self.proxies[b as usize]) else {
+                continue;
+            };
+            let pair = ColliderPair::new(pa.handle, pb.handle);
+            if add {
+                self.stats.added += 1;
+                self.step.added += 1;
+                events.push(BroadPhasePairEvent::AddPair(pair));
+            } else {
+                self.stats.deleted += 1;
+                self.step.deleted += 1;
+                events.push(BroadPhasePairEvent::DeletePair(pair));
+            }
+        }
+    }
+}
+
+impl KineticBroadPhase {
+    /// Runs the structure's events up to `t`.
+    fn advance(&mut self, t: Real) {
+        let Some(s) = self.structure.as_mut() else {
+            self.clock.kds = self.clock.kds.max(t);
+            return;
+        };
+        loop {
+            let next = s.next_event_time();
+            // A NaN time never comes due.
+            if next.is_nan() || next > t {
+                break;
+            }
+            s.process_next_event(&self.bodies, &mut self.changes);
+            self.book.apply(&mut self.changes, next);
+            self.stats.events += 1;
+            self.step.events += 1;
+            if self.audit && self.audit_error.is_none() {
+                let r = s
+                    .validate(&self.bodies, next)
+                    .and_then(|_| self.book.audit(false, |_, _| true));
+                if let Err(e) = r {
+                    self.audit_error = Some(format!("after the event at {next}: {e}"));
+                }
+            }
+        }
+        self.clock.kds = self.clock.kds.max(t);
+    }
+}

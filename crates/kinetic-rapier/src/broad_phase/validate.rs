@@ -1,0 +1,52 @@
+//! The audit: the invariants recomputed from scratch.
+
+use super::{Clock, KineticBroadPhase, Proxy};
+use crate::pairs::proxies_meet;
+use crate::proxy::centre_of_mass;
+use kinetic_core::Body;
+use rapier3d::prelude::*;
+
+impl KineticBroadPhase {
+    /// Recomputes the invariants from scratch: the structure's own, the pair book's, every
+    /// enabled collider held, every moving body within its slack of its plan.
+    pub fn validate(&self, colliders: &ColliderSet, bodies: &RigidBodySet) -> Result<(), String> {
+        if let Some(s) = &self.structure {
+            s.validate(&self.bodies, self.clock.kds)?;
+        }
+        self.book.audit(true, meet(&self.bodies, self.clock))?;
+        for (h, co) in colliders.iter() {
+            if co.is_enabled() && !self.known(h) {
+                return Err(format!("collider {h:?} is not held"));
+            }
+        }
+        for (i, p) in self.proxies.iter().enumerate() {
+            let want = p.as_ref().map(Proxy::mover);
+            if self.movers.get(i).copied().flatten() != want {
+                return Err(format!(
+                    "collider {i}: mover entry {:?}, held as {want:?}",
+                    self.movers.get(i)
+                ));
+            }
+        }
+        for (h, m) in self.motions.iter() {
+            let Some(rb) = bodies.get(h) else { continue };
+            let off = (centre_of_mass(rb) - m.plan.position_at(self.clock.pos)).length();
+            if off > m.slack_now() * (1.0 + 1e-6) {
+                return Err(format!(
+                    "body {h:?} is {off} from its plan, slack {}",
+                    m.slack_now()
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Whether the proxies of colliders `a` and `b` can meet within the window from the positions'
+/// time to the structure's (a missing proxy: yes).
+fn meet(bodies: &[Option<Body>], clock: Clock) -> impl Fn(u32, u32) -> bool + '_ {
+    move |a, b| match (&bodies[a as usize], &bodies[b as usize]) {
+        (Some(x), Some(y)) => proxies_meet(x, y, clock.pos, clock.kds),
+        _ => true,
+    }
+}

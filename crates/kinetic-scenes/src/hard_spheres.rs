@@ -1,0 +1,417 @@
+//! Hard-sphere systems, as event-driven molecular dynamics (DynamO) benchmarks them: a gas of
+//! equal spheres, or a binary mixture of large and small spheres with equal volume fractions,
+//! at a packing fraction, inside walls, with elastic response and Maxwell-Boltzmann velocities
+//! at temperature 1.
+//!
+//! Units as DynamO's: the large spheres have diameter 1 and mass 1; a small sphere of diameter
+//! `ratio` has mass `ratio^3` (the scene format's masses go as radius cubed); kT = 1.
+//!
+//! The start is non-overlapping: random sequential placement, large spheres first, with one
+//! cell grid per species, so building 256000 spheres is linear work. The horizon is set from
+//! Enskog's collision rate (with the Boublik-Mansoori-Carnahan-Starling-Leland contact
+//! values) so that the run holds about the number of collisions asked for.
+
+use glam::DVec3;
+use kinetic_collide::scene::{Scene, SceneObject};
+use kinetic_collide::{Response, Walls, WorldKind};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rand_distr::StandardNormal;
+use std::f64::consts::PI;
+
+/// The densest packing fraction the generator accepts: random sequential placement of equal
+/// spheres jams near 0.38, and a mixture fills less easily.
+pub const PACKING_MAX: f64 = 0.35;
+
+/// A hard-sphere system.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HardSpheres {
+    /// Number of spheres.
+    pub n: usize,
+    /// Small over large diameter, in (0, 1]; 1 is the monodisperse gas.
+    pub ratio: f64,
+    /// Fraction of the walls' box the spheres fill.
+    pub packing: f64,
+    /// About how many collisions the horizon should hold.
+    pub collisions: f64,
+    /// The random seed.
+    pub seed: u64,
+}
+
+/// What is wrong with a hard-sphere request.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum HardSpheresError {
+    /// A parameter out of its range.
+    #[error("{name}: {why} (got {value})")]
+    Parameter {
+        /// The parameter.
+        name: &'static str,
+        /// Its range.
+        why: &'static str,
+        /// What was given.
+        value: f64,
+    },
+    /// Random placement gave up: the box is too full.
+    #[error(
+        "could not place sphere {placed} of {n} without overlap after {attempts} attempts: \
+         lower the packing fraction"
+    )]
+    Crowded {
+        /// Spheres placed.
+        placed: usize,
+        /// Spheres asked for.
+        n: usize,
+        /// Attempts made.
+        attempts: usize,
+    },
+}
+
+/// One species of a system: how many, their diameter and mass.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Species {
+    /// Number of spheres.
+    pub count: usize,
+    /// Diameter.
+    pub diameter: f64,
+    /// Mass.
+    pub mass: f64,
+}
+
+impl HardSpheres {
+    /// The monodisperse gas of DynamO's benchmark: `n` spheres at packing fraction 0.26.
+    pub fn gas(n: usize) -> HardSpheres {
+        HardSpheres {
+            n,
+            ratio: 1.0,
+            packing: 0.26,
+            collisions: 1e6,
+            seed: 1,
+        }
+    }
+
+    /// A binary mixture with equal volume fractions at packing fraction 0.26.
+    pub fn mixture(n: usize, ratio: f64) -> HardSpheres {
+        HardSpheres {
+            ratio,
+            ..HardSpheres::gas(n)
+        }
+    }
+
+    /// Checks the parameters.
+    pub fn check(&self) -> Result<(), HardSpheresError> {
+        let bad = |name, why, value| Err(HardSpheresError::Parameter { name, why, value });
+        if self.n == 0 {
+            return bad("n", "at least one sphere", 0.0);
+        }
+        if !(self.ratio > 0.0 && self.ratio <= 1.0) {
+            return bad("ratio", "small over large diameter, in (0, 1]", self.ratio);
+        }
+        if !(self.packing > 0.0 && self.packing <= PACKING_MAX) {
+            return bad("packing", "in (0, 0.35]", self.packing);
+        }
+        if !(self.collisions.is_finite() && self.collisions > 0.0) {
+            return bad("collisions", "finite and > 0", self.collisions);
+        }
+        Ok(())
+    }
+
+    /// The species, large first: one for the gas; for a mixture, large and small spheres in
+    /// numbers that give them equal volumes (`n ratio^3 / (1 + ratio^3)` large, at least one).
+    pub fn species(&self) -> Vec<Species> {
+        if self.ratio == 1.0 {
+            return vec![Species {
+                count: self.n,
+                diameter: 1.0,
+                mass: 1.0,
+            }];
+        }
+        let r3 = self.ratio.powi(3);
+        let large = ((self.n as f64 * r3 / (1.0 + r3)).round() as usize).clamp(1, self.n);
+        let mut species = vec![Species {
+            count: large,
+            diameter: 1.0,
+            mass: 1.0,
+        }];
+        if self.n > large {
+            species.push(Species {
+                count: self.n - large,
+                diameter: self.ratio,
+                mass: r3,
+            });
+        }
+        species
+    }
+
+    /// The side of the walls' cube: the spheres fill `packing` of it.
+    pub fn side(&self) -> f64 {
+        let volume: f64 = self
+            .species()
+            .iter()
+            .map(|s| s.count as f64 * PI / 6.0 * s.diameter.powi(3))
+            .sum();
+        (volume / self.packing).cbrt()
+    }
+
+    /// Enskog's collision rate of the whole system (collisions per unit time) at kT = 1, with
+    /// the BMCSL contact values of the pair distribution. Walls make the real rate a few per
+    /// cent lower.
+    pub fn collision_rate(&self) -> f64 {
+        let species = self.species();
+        let volume = self.side().powi(3);
+        let density: Vec<f64> = species.iter().map(|s| s.count as f64 / volume).collect();
+        let zeta = |k: i32| -> f64 {
+            PI / 6.0
+                * species
+                    .iter()
+                    .zip(&density)
+                    .map(|(s, n)| n * s.diameter.powi(k))
+                    .sum::<f64>()
+        };
+        let (z2, z3) = (zeta(2), zeta(3));
+        let mut rate = 0.0;
+        for (i, si) in species.iter().enumerate() {
+            for (j, sj) in species.iter().enumerate().skip(i) {
+                let s = si.diameter * sj.diameter / (si.diameter + sj.diameter);
+                let g = 1.0 / (1.0 - z3)
+                    + 3.0 * z2 * s / (1.0 - z3).powi(2)
+                    + 2.0 * (z2 * s).powi(2) / (1.0 - z3).powi(3);
+                let sigma = (si.diameter + sj.diameter) / 2.0;
+                let mu = si.mass * sj.mass / (si.mass + sj.mass);
+                let half = if i == j { 0.5 } else { 1.0 };
+                rate += half
+                    * density[i]
+                    * density[j]
+                    * sigma
+                    * sigma
+                    * g
+                    * (8.0 * PI / mu).sqrt()
+                    * volume;
+            }
+        }
+        rate
+    }
+
+    /// The scene: walls from the origin to `side` on every axis, the spheres placed apart,
+    /// velocities drawn from Maxwell-Boltzmann at kT = 1 (the whole system's momentum
+    /// removed), and a horizon of about `collisions` collisions.
+    pub fn build(&self) -> Result<Scene, HardSpheresError> {
+        self.check()?;
+        let side = self.side();
+        let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+        let species = self.species();
+        let mut placer = Placer::new(&species, side);
+        let mut objects = Vec::with_capacity(self.n);
+        let mut attempts = 0usize;
+        for (k, s) in species.iter().enumerate() {
+            let r = s.diameter / 2.0;
+            let sd = s.mass.recip().sqrt();
+            for _ in 0..s.count {
+                let position = loop {
+                    attempts += 1;
+                    if attempts > 1000 * self.n + 100_000 {
+                        return Err(HardSpheresError::Crowded {
+                            placed: objects.len(),
+                            n: self.n,
+                            attempts,
+                        });
+                    }
+                    let p = DVec3::new(
+                        rng.random_range(r..side - r),
+                        rng.random_range(r..side - r),
+                        rng.random_range(r..side - r),
+                    );
+                    if placer.free(p, r) {
+                        break p;
+                    }
+                };
+                placer.add(k, position);
+                let velocity = DVec3::new(
+                    rng.sample::<f64, _>(StandardNormal),
+                    rng.sample::<f64, _>(StandardNormal),
+                    rng.sample::<f64, _>(StandardNormal),
+                ) * sd;
+                objects.push((s.mass, SceneObject::ball(r, position, velocity)));
+            }
+        }
+        // No drift: the system's momentum is zero.
+        let total_mass: f64 = objects.iter().map(|(m, _)| m).sum();
+        let drift = objects.iter().map(|(m, o)| o.velocity * *m).sum::<DVec3>() / total_mass;
+        let objects = objects
+            .into_iter()
+            .map(|(_, mut o)| {
+                o.velocity -= drift;
+                o
+            })
+            .collect();
+        Ok(Scene {
+            world: WorldKind::Free,
+            horizon: self.collisions / self.collision_rate(),
+            response: Response::Elastic,
+            walls: Some(Walls {
+                min: DVec3::ZERO,
+                max: DVec3::splat(side),
+            }),
+            objects,
+        })
+    }
+}
+
+/// Random sequential placement: one cell grid per species, cells at least as wide as its
+/// diameter.
+struct Placer {
+    grids: Vec<Cells>,
+}
+
+struct Cells {
+    radius: f64,
+    cell: f64,
+    per_axis: usize,
+    cells: Vec<Vec<DVec3>>,
+}
+
+impl Cells {
+    fn index(&self, c: [usize; 3]) -> usize {
+        (c[2] * self.per_axis + c[1]) * self.per_axis + c[0]
+    }
+
+    fn cell_of(&self, x: f64) -> usize {
+        ((x / self.cell).max(0.0) as usize).min(self.per_axis - 1)
+    }
+}
+
+impl Placer {
+    fn new(species: &[Species], side: f64) -> Placer {
+        let grids = species
+            .iter()
+            .map(|s| {
+                // Cells as wide as a diameter, but never many more cells than spheres: a
+                // speck among large spheres would otherwise ask for a table of 1e18 cells.
+                let most = (8.0 * s.count as f64).cbrt().ceil().max(1.0);
+                let per_axis = (side / s.diameter).floor().clamp(1.0, most) as usize;
+                Cells {
+                    radius: s.diameter / 2.0,
+                    cell: side / per_axis as f64,
+                    per_axis,
+                    cells: vec![Vec::new(); if s.count > 0 { per_axis.pow(3) } else { 0 }],
+                }
+            })
+            .collect();
+        Placer { grids }
+    }
+
+    /// Whether a sphere of radius `r` at `p` overlaps none placed so far.
+    fn free(&self, p: DVec3, r: f64) -> bool {
+        self.grids.iter().all(|g| {
+            if g.cells.is_empty() {
+                return true;
+            }
+            let reach = r + g.radius;
+            let lo = [0, 1, 2].map(|k| g.cell_of(p[k] - reach));
+            let hi = [0, 1, 2].map(|k| g.cell_of(p[k] + reach));
+            (lo[2]..=hi[2]).all(|z| {
+                (lo[1]..=hi[1]).all(|y| {
+                    (lo[0]..=hi[0]).all(|x| {
+                        g.cells[g.index([x, y, z])]
+                            .iter()
+                            .all(|q| (*q - p).length_squared() >= reach * reach)
+                    })
+                })
+            })
+        })
+    }
+
+    fn add(&mut self, species: usize, p: DVec3) {
+        let g = &mut self.grids[species];
+        let c = [0, 1, 2].map(|k| g.cell_of(p[k]));
+        let i = g.index(c);
+        g.cells[i].push(p);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mixture_counts_match_dynamo_benchmark() {
+        let s = HardSpheres::mixture(32000, 0.1).species();
+        assert_eq!((s[0].count, s[1].count), (32, 31968));
+        let s = HardSpheres::mixture(4000, 0.5).species();
+        assert_eq!((s[0].count, s[1].count), (444, 3556));
+        assert_eq!(HardSpheres::gas(4000).species().len(), 1);
+    }
+
+    #[test]
+    fn packing_and_enskog_rate_of_the_gas() {
+        let h = HardSpheres::gas(4000);
+        let v = 4000.0 * PI / 6.0;
+        assert!((v / h.side().powi(3) - 0.26).abs() < 1e-12);
+        // Per sphere: 4 n sigma^2 g sqrt(pi kT / m), g from Carnahan-Starling.
+        let n = 4000.0 / h.side().powi(3);
+        let g = (1.0 - 0.13) / (1.0f64 - 0.26).powi(3);
+        let per_sphere = 4.0 * n * g * PI.sqrt();
+        let rate = h.collision_rate();
+        assert!(
+            (rate - per_sphere * 4000.0 / 2.0).abs() < 1e-9 * rate,
+            "{rate}"
+        );
+    }
+
+    #[test]
+    fn spheres_start_apart_inside_the_walls_with_no_drift() {
+        for ratio in [1.0, 0.5, 0.2] {
+            let h = HardSpheres {
+                n: 2000,
+                ..HardSpheres::mixture(2000, ratio)
+            };
+            let scene = h.build().unwrap();
+            let side = h.side();
+            let balls: Vec<(DVec3, f64)> = scene
+                .objects
+                .iter()
+                .map(|o| (o.position, kinetic_collide::scene::outer_radius(&o.shape)))
+                .collect();
+            for (i, &(p, r)) in balls.iter().enumerate() {
+                assert!((0..3).all(|k| p[k] >= r && p[k] <= side - r));
+                for &(q, s) in &balls[i + 1..] {
+                    assert!((p - q).length() >= r + s, "overlap at ratio {ratio}");
+                }
+            }
+            let momentum: DVec3 = scene
+                .objects
+                .iter()
+                .map(|o| o.velocity * kinetic_collide::scene::outer_radius(&o.shape).powi(3))
+                .sum();
+            assert!(momentum.length() < 1e-9, "{momentum}");
+            // Temperature about 1: the mean of m v^2 / 3.
+            let kt: f64 = scene
+                .objects
+                .iter()
+                .map(|o| {
+                    let m = (2.0 * kinetic_collide::scene::outer_radius(&o.shape)).powi(3);
+                    m * o.velocity.length_squared() / 3.0
+                })
+                .sum::<f64>()
+                / 2000.0;
+            assert!((kt - 1.0).abs() < 0.1, "kT {kt} at ratio {ratio}");
+        }
+    }
+
+    #[test]
+    fn bad_parameters_are_named() {
+        let e = HardSpheres {
+            ratio: 0.0,
+            ..HardSpheres::gas(10)
+        }
+        .build()
+        .unwrap_err();
+        assert!(e.to_string().starts_with("ratio:"), "{e}");
+        let e = HardSpheres {
+            packing: 0.5,
+            ..HardSpheres::gas(10)
+        }
+        .build()
+        .unwrap_err();
+        assert!(e.to_string().starts_with("packing:"), "{e}");
+    }
+}

@@ -1,0 +1,20 @@
+//! # kinetic-scenes
+//!
+//! The scenes of kinetic-collide, defined once and shared by the tests, the benches, the
+//! examples and the command-line tool's `generate`: seeded random ball and flight scenes
+//! ([`BallScene`], [`FlightScene`], [`NestScene`]), hard-sphere systems ([`HardSpheres`]) and
+//! the comparison's scene families ([`families::Family`]). Every generator is deterministic in
+//! its seed.
+#![warn(missing_docs)]
+#![forbid(unsafe_code)]
+
+pub mod audit;
+pub mod choice;
+pub mod families;
+pub mod generators;
+pub mod hard_spheres;
+#[cfg(feature = "rapier")]
+pub mod rapier;
+
+pub use generators::{BallScene, FlightScene, NestScene, ShapeMix};
+pub use hard_spheres::{HardSpheres, HardSpheresError, Species};
