@@ -4,7 +4,7 @@
 //! list built once; criterion's throughput line gives swaps per second.
 
 use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_main};
-use kinetic_collide::{KineticSortedList, ScalarKey};
+use kinetic_collide::kds::{KineticSortedList, ScalarKey};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 

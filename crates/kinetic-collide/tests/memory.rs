@@ -61,8 +61,8 @@ fn peak_of_run(collisions: f64, structure: StructureName) -> (usize, u64) {
     };
     let base = IN_USE.load(Ordering::Relaxed);
     PEAK.store(base, Ordering::Relaxed);
-    let out = run_scene_streamed(&scene, Some(structure), &[], &mut |_, _| {}, &mut stream)
-        .unwrap();
+    let out =
+        run_scene_streamed(&scene, Some(structure), &[], &mut |_, _| {}, &mut stream).unwrap();
     assert!(out.events.is_empty());
     assert_eq!(out.stats.begins, seen);
     drop(scene);
@@ -74,7 +74,10 @@ fn a_streamed_run_holds_no_more_for_more_events() {
     for structure in [StructureName::Cells, StructureName::Grid] {
         let (short, short_events) = peak_of_run(2e4, structure);
         let (long, long_events) = peak_of_run(3e5, structure);
-        assert!(long_events > 10 * short_events, "{long_events} vs {short_events}");
+        assert!(
+            long_events > 10 * short_events,
+            "{long_events} vs {short_events}"
+        );
         // Holding the events would add 24 bytes each: 6 MB over the long run's extra 2.6e5.
         assert!(
             long < short + short / 10 + (1 << 20),

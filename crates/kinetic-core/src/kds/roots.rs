@@ -79,6 +79,7 @@ impl Roots {
 /// assert_eq!((r.get(0).unwrap().before, r.get(0).unwrap().after), (1, -1));
 /// ```
 pub fn roots_after_zero(p: &Poly) -> Roots {
+    let p = &in_range(p);
     let mut out = Roots::default();
     let s0 = p.sign_just_after_zero();
     if s0 == 0 {
@@ -93,6 +94,22 @@ pub fn roots_after_zero(p: &Poly) -> Roots {
         before = after;
     }
     out
+}
+
+/// `p` scaled by a power of two (exactly: the same roots and signs) so that its largest
+/// coefficient is near 1, when it is so small or so large that products of coefficients (a
+/// discriminant, a Newton step) would underflow or overflow; `p` itself otherwise, so that
+/// ordinary certificates are solved bit for bit as written.
+fn in_range(p: &Poly) -> Poly {
+    const LOW: f64 = 1.0 / (1u128 << 100) as f64 / (1u128 << 100) as f64 / (1u128 << 100) as f64;
+    let m = p.c.iter().fold(0.0f64, |m, &x| m.max(x.abs()));
+    if m == 0.0 || !m.is_finite() || (LOW..=1.0 / LOW).contains(&m) {
+        return *p;
+    }
+    let scale = 2f64.powi(-m.log2().round() as i32);
+    Poly {
+        c: p.c.map(|x| x * scale),
+    }
 }
 
 /// The first time `tau > 0` at which `p` changes sign, if any. A touch (double root) is

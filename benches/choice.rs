@@ -1,0 +1,158 @@
+//! The default choice of structure against every structure, on the choice family
+//! (`kinetic_scenes::choice`): each structure's wall time on each scene (stopped at a budget
+//! once it is far behind the fastest), the default's pick and its time over the fastest's.
+//! Writes `docs/results/choice.csv`.
+//!
+//! `cargo bench --bench choice -- [SIZES...] [--budget SECONDS] [--out FILE]`
+//! (sizes default to 100 1000 10000).
+
+use kinetic_collide::run::{Stream, StructureName, choose_structure, run_scene_streamed};
+use kinetic_scenes::choice::{choice_family, response_name, world_name};
+use std::ops::ControlFlow;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+/// One structure's run of one scene.
+struct Timing {
+    seconds: f64,
+    /// Stopped at the budget before the horizon.
+    stopped: bool,
+    events: u64,
+    contacts: u64,
+}
+
+fn timed(scene: &kinetic_collide::Scene, s: StructureName, budget: f64) -> Option<Timing> {
+    let stop = Arc::new(AtomicBool::new(false));
+    let done = Arc::new(AtomicBool::new(false));
+    let timer = {
+        let (stop, done) = (stop.clone(), done.clone());
+        std::thread::spawn(move || {
+            let start = std::time::Instant::now();
+            while !done.load(Ordering::Relaxed) {
+                if start.elapsed().as_secs_f64() > budget {
+                    stop.store(true, Ordering::Relaxed);
+                    return;
+                }
+                std::thread::sleep(Duration::from_millis(5));
+            }
+        })
+    };
+    let mut sink = |_: &[kinetic_collide::ContactEvent]| ControlFlow::Continue(());
+    let mut stream = Stream {
+        sink: &mut sink,
+        stop: Some(&stop),
+    };
+    let out = run_scene_streamed(scene, Some(s), &[], &mut |_, _| {}, &mut stream);
+    done.store(true, Ordering::Relaxed);
+    let _ = timer.join();
+    let out = out.ok()?;
+    Some(Timing {
+        seconds: out.wall_seconds,
+        stopped: out.interrupted.is_some(),
+        events: out.stats.events_total(),
+        contacts: out.stats.begins,
+    })
+}
+
+fn main() {
+    let mut sizes = Vec::new();
+    let mut budget: f64 = 20.0;
+    let mut out = String::from("docs/results/choice.csv");
+    let mut args = std::env::args().skip(1);
+    while let Some(a) = args.next() {
+        match a.as_str() {
+            "--budget" => budget = args.next().and_then(|v| v.parse().ok()).unwrap_or(budget),
+            "--out" => out = args.next().unwrap_or(out),
+            "--bench" => {}
+            _ => sizes.extend(a.parse::<usize>().ok()),
+        }
+    }
+    if sizes.is_empty() {
+        sizes = vec![100, 1000, 10000];
+    }
+    let mut csv = String::from(
+        "kind,n,world,response,structure,seconds,stopped,events,contacts,events_per_contact,default\n",
+    );
+    println!("| scene | n | default | default / fastest | fastest | times (s) |");
+    println!("|---|---|---|---|---|---|");
+    let mut worst: f64 = 1.0;
+    for case in choice_family(&sizes, 1) {
+        let scene = &case.scene;
+        let pick = choose_structure(scene);
+        let mut rows: Vec<(StructureName, Timing)> = Vec::new();
+        for (_, s) in StructureName::ALL {
+            if !s.applies_to(scene) {
+                continue;
+            }
+            // Once a structure is far behind, stop it at a few times the fastest.
+            let best = rows
+                .iter()
+                .filter(|(_, t)| !t.stopped)
+                .map(|(_, t)| t.seconds)
+                .fold(f64::INFINITY, f64::min);
+            let cap = budget.min((best * 4.0).max(0.5));
+            if let Some(t) = timed(scene, s, cap) {
+                rows.push((s, t));
+            }
+        }
+        let (fast, best) = rows
+            .iter()
+            .filter(|(_, t)| !t.stopped)
+            .map(|(s, t)| (*s, t.seconds))
+            .fold((pick, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
+        let mine = rows
+            .iter()
+            .find(|(s, _)| *s == pick)
+            .map_or(f64::INFINITY, |(_, t)| {
+                if t.stopped { f64::INFINITY } else { t.seconds }
+            });
+        // Timings under a millisecond are noise: compare from there.
+        let ratio = mine.max(1e-3) / best.max(1e-3);
+        worst = worst.max(ratio);
+        let times: Vec<String> = rows
+            .iter()
+            .map(|(s, t)| {
+                format!(
+                    "{} {}{:.3}",
+                    s.as_str(),
+                    if t.stopped { ">" } else { "" },
+                    t.seconds
+                )
+            })
+            .collect();
+        println!(
+            "| {} | {} | {} | {:.2} | {} | {} |",
+            case.kind,
+            scene.objects.len(),
+            pick.as_str(),
+            ratio,
+            fast.as_str(),
+            times.join(", ")
+        );
+        for (s, t) in &rows {
+            csv.push_str(&format!(
+                "{},{},{},{},{},{:.6},{},{},{},{:.2},{}\n",
+                case.kind,
+                scene.objects.len(),
+                world_name(scene),
+                response_name(scene),
+                s.as_str(),
+                t.seconds,
+                t.stopped,
+                t.events,
+                t.contacts,
+                t.events as f64 / t.contacts.max(1) as f64,
+                *s == pick
+            ));
+        }
+    }
+    println!("\nworst default / fastest: {worst:.2}");
+    if let Some(dir) = std::path::Path::new(&out).parent() {
+        let _ = std::fs::create_dir_all(dir);
+    }
+    match std::fs::write(&out, csv) {
+        Ok(()) => println!("wrote {out}"),
+        Err(e) => eprintln!("{out}: {e}"),
+    }
+}
