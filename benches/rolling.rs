@@ -1,4 +1,4 @@
-//! The rolling-ball benchmark (issue 3): the collision tree, its global-lists variant and the
+//! The rolling-ball benchmark: the collision tree, its global-lists variant and the
 //! brute force on `BallScene::rolling(n)` (radii 0.01 to 10, linear motion, no response), one
 //! timed run each, with the figures the README table shows. The brute force runs up to
 //! n = 1e4 and its event log is compared with the tree's.

@@ -1,4 +1,4 @@
-//! Writes the rolling benchmark scene of `n` balls (issue 3) as a scene file:
+//! Writes the rolling benchmark scene of `n` balls as a scene file:
 //! `cargo run --release --example rolling_scene -- N HORIZON > scene.json`.
 
 use kinetic_scenes::BallScene;

@@ -150,7 +150,9 @@ fn panel(
                 }
                 let c = colour(r.method);
                 let p = (x, r.wall_seconds.max(1e-5));
-                let label = if r.step == "exact" {
+                let label = if r.default {
+                    format!("{} (default)", r.method)
+                } else if r.step == "exact" {
                     r.method.to_string()
                 } else {
                     r.step.clone()

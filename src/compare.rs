@@ -11,7 +11,7 @@ use crate::rapier_run::{Broad, run_rapier};
 use crate::stepped::run_stepped;
 use kinetic_collide::run::{RunError, StructureName, run_scene};
 use kinetic_collide::scene::Scene;
-use kinetic_core::{ContactEvent, ContactKind, Real, Response, WorldKind};
+use kinetic_core::{ContactEvent, ContactKind, Real, Response};
 use kinetic_scenes::families::{Case, Family};
 use std::collections::BTreeMap;
 
@@ -95,22 +95,12 @@ impl Method {
     /// and, when objects pass through each other (response `"none"`, so every method follows
     /// the same motion), time-stepped detection and rapier at each of [`STEPS`].
     pub fn applicable(scene: &Scene) -> Vec<Method> {
-        let mut methods: Vec<Method> = match scene.world {
-            WorldKind::Plane => vec![
-                StructureName::RollingTree,
-                StructureName::RollingGlobalLists,
-            ],
-            WorldKind::Free => vec![
-                StructureName::Sweep,
-                StructureName::Guards,
-                StructureName::Grid,
-            ],
-        }
-        .into_iter()
-        .chain(kinetic_collide::run::cells_hold(scene).then_some(StructureName::Cells))
-        .chain([StructureName::BruteForce])
-        .map(Method::Kinetic)
-        .collect();
+        let mut methods: Vec<Method> = StructureName::ALL
+            .iter()
+            .map(|&(_, s)| s)
+            .filter(|s| s.applies_to(scene))
+            .map(Method::Kinetic)
+            .collect();
         if scene.response == Response::None {
             for (_, dt) in STEPS {
                 methods.push(Method::Stepped(dt));
@@ -245,6 +235,8 @@ pub struct Row {
     pub objects: usize,
     /// The method's name.
     pub method: &'static str,
+    /// Whether it is the structure the tool takes by default for the scene.
+    pub default: bool,
     /// Its step (`exact` for kinetic structures).
     pub step: String,
     /// Wall-clock seconds for the whole run.
@@ -370,6 +362,7 @@ pub fn compare_scene(scene: &NamedScene, mut progress: impl FnMut(&Row)) -> Vec<
             scene: scene.name.clone(),
             objects: s.objects.len(),
             method: method.name(),
+            default: method == Method::Kinetic(kinetic_collide::run::choose_structure(s)),
             step: method.step_label(),
             wall_seconds: wall,
             contacts: acc.contacts,
@@ -405,10 +398,11 @@ pub fn markdown(rows: &[Row]) -> String {
     let e = |x: Option<Real>| x.map_or("-".to_string(), |x| format!("{x:.2e}"));
     for r in rows {
         out.push_str(&format!(
-            "| {} ({}) | {} | {} | {:.3} | {} | {} ({:.1}%) | {} | {} | {} |{}\n",
+            "| {} ({}) | {}{} | {} | {:.3} | {} | {} ({:.1}%) | {} | {} | {} |{}\n",
             r.scene,
             r.objects,
             r.method,
+            if r.default { " (default)" } else { "" },
             r.step,
             r.wall_seconds,
             r.contacts,

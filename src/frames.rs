@@ -6,11 +6,12 @@
 //! instants). Optional overlays show what the structure is doing ([`Overlay`]).
 
 use glam::Vec3 as F3;
-use kinetic_collide::run::{RunError, RunOutput, Stream, StructureName, run_scene_streamed};
+use kinetic_collide::run::{
+    RunError, RunOutput, Stream, StructureName, holding_events, run_scene_streamed,
+};
 use kinetic_collide::scene::{Scene, ShapeSpec};
-use kinetic_core::{ContactEvent, World, WorldKind};
+use kinetic_core::{World, WorldKind};
 use kinetic_render::{AdapterChoice, Camera, HullMesh, Instance, RenderError, Renderer, Snapshot};
-use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -239,18 +240,7 @@ pub fn run_with_snapshots(
     structure: Option<StructureName>,
     spec: &FrameSpec,
 ) -> Result<(RunOutput, Vec<Snapshot>), RunError> {
-    let mut events = Vec::new();
-    let mut sink = |batch: &[ContactEvent]| {
-        events.extend_from_slice(batch);
-        ControlFlow::Continue(())
-    };
-    let mut stream = Stream {
-        sink: &mut sink,
-        stop: None,
-    };
-    let (mut output, snapshots) = run_with_snapshots_streamed(scene, structure, spec, &mut stream)?;
-    output.events = events;
-    Ok((output, snapshots))
+    holding_events(|stream| run_with_snapshots_streamed(scene, structure, spec, stream))
 }
 
 /// [`run_with_snapshots`], handing the events to `stream` as they happen instead of holding

@@ -242,7 +242,14 @@ fn run_file(
         (1, format!("{name}: cannot write: {e}"))
     };
     let mut log = Output::open(&targets[0]).map_err(|e| cannot_write(&targets[0], e))?;
-    let _ = ctrlc::set_handler(|| STOP.store(true, Ordering::Relaxed));
+    // The first signal stops the run at the next instant; a second (say, during a long build
+    // that has no instants yet) exits at once, leaving no partial file.
+    let _ = ctrlc::set_handler(|| {
+        if STOP.swap(true, Ordering::Relaxed) {
+            output::remove_hidden_files();
+            std::process::exit(130);
+        }
+    });
     let mut write_error: Option<std::io::Error> = None;
     let mut line = String::with_capacity(1 << 16);
     let mut sink = |batch: &[ContactEvent]| {

@@ -7,6 +7,26 @@ use std::ffi::OsString;
 use std::fs::{File, OpenOptions};
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// The hidden files being written, for [`remove_hidden_files`] on a forced exit.
+static HIDDEN: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn forget_hidden(path: &Path) {
+    if let Ok(mut hidden) = HIDDEN.lock() {
+        hidden.retain(|p| p != path);
+    }
+}
+
+/// Removes every hidden file still being written: for a process about to exit at once (a
+/// second Ctrl-C), so that no partial file is left behind.
+pub fn remove_hidden_files() {
+    if let Ok(hidden) = HIDDEN.lock() {
+        for p in hidden.iter() {
+            let _ = std::fs::remove_file(p);
+        }
+    }
+}
 
 /// Where an output goes, settled before anything is written.
 #[derive(Debug, PartialEq, Eq)]
@@ -124,6 +144,9 @@ impl Output {
                 }
                 let hidden = hidden_beside(path);
                 let file = File::create(&hidden)?;
+                if let Ok(mut list) = HIDDEN.lock() {
+                    list.push(hidden.clone());
+                }
                 (Box::new(file), Some((hidden, path.clone())))
             }
         };
@@ -142,6 +165,7 @@ impl Output {
     pub fn commit(mut self) -> io::Result<()> {
         self.writer.flush()?;
         if let Some((hidden, path)) = self.rename.take() {
+            forget_hidden(&hidden);
             let result = std::fs::rename(&hidden, &path);
             if result.is_err() {
                 let _ = std::fs::remove_file(&hidden);
@@ -155,6 +179,7 @@ impl Output {
 impl Drop for Output {
     fn drop(&mut self) {
         if let Some((hidden, _)) = self.rename.take() {
+            forget_hidden(&hidden);
             let _ = std::fs::remove_file(hidden);
         }
     }

@@ -73,8 +73,8 @@ fn small_scene_gives_the_exact_log() {
 ";
     assert_eq!(events.unwrap(), want);
     let stats: serde_json::Value = serde_json::from_str(&stats.unwrap()).unwrap();
-    // A free world of similar sizes gets the sweep.
-    assert_eq!(stats["structure"], "sweep");
+    // A free world of similar sizes gets the loose grid.
+    assert_eq!(stats["structure"], "loose-grid");
     assert_eq!(stats["objects"], 4);
     assert_eq!(stats["contacts"]["begin"], 4);
     assert_eq!(stats["contacts"]["end"], 3);
@@ -414,7 +414,7 @@ fn scene_round_trips_through_json() {
 }
 
 #[test]
-fn plane_scenes_run_on_the_rolling_tree_and_match_the_brute_force() {
+fn plane_scenes_run_on_every_plane_structure_and_match_the_brute_force() {
     let dir = temp_dir("rolling");
     let mut params = kinetic_scenes::BallScene::marbles_on_a_table();
     params.n = 120;
@@ -423,14 +423,23 @@ fn plane_scenes_run_on_the_rolling_tree_and_match_the_brute_force() {
     let (status, err, chosen, stats) = run(&dir, &scene, &[]);
     assert_eq!(status, 0, "{err}");
     let stats: serde_json::Value = serde_json::from_str(&stats.unwrap()).unwrap();
-    assert_eq!(stats["structure"], "rolling-tree");
-    let boxes = stats["structure_stats"]["max_boxes_per_point"]
-        .as_f64()
-        .unwrap();
-    assert!(boxes >= 1.0, "{stats}");
+    // Marbles of radii 1:50 get the loose grid.
+    assert_eq!(stats["structure"], "loose-grid");
     let chosen = chosen.unwrap();
     assert!(chosen.lines().count() > 20, "{chosen}");
-    for name in ["rolling-global-lists", "brute-force"] {
+    let (_, _, _, tree) = run(&dir, &scene, &["--structure", "rolling-tree"]);
+    let tree: serde_json::Value = serde_json::from_str(&tree.unwrap()).unwrap();
+    let boxes = tree["structure_stats"]["max_boxes_per_point"]
+        .as_f64()
+        .unwrap();
+    assert!(boxes >= 1.0, "{tree}");
+    for name in [
+        "rolling-tree",
+        "rolling-global-lists",
+        "sweep",
+        "grid",
+        "brute-force",
+    ] {
         let (status, err, events, stats) = run(&dir, &scene, &["--structure", name]);
         assert_eq!(status, 0, "{err}");
         let stats: serde_json::Value = serde_json::from_str(&stats.unwrap()).unwrap();
@@ -464,31 +473,39 @@ fn compare_scores_every_method_and_writes_csv_and_chart() {
         .skip(1)
         .map(|l| l.split(',').collect())
         .collect();
-    // Free scenes: sweep, guards, grid, brute force + 5 steps x (stepped, 3 rapier variants);
-    // the plane scene: two rolling structures + brute force + the same 20.
-    assert_eq!(rows.len(), 24 + 24 + 23, "{csv}");
-    assert!(csv.starts_with("scene,objects,method,step,wall_seconds,contacts,missed"));
+    // Free scenes: sweep, guards, grid, loose grid, brute force + 5 steps x (stepped, 3 rapier
+    // variants); the plane scene: two rolling structures, sweep, grid, loose grid, brute force
+    // + the same 20.
+    assert_eq!(rows.len(), 25 + 25 + 26, "{csv}");
+    assert!(csv.starts_with("scene,objects,method,default,step,wall_seconds,contacts,missed"));
     for r in &rows {
         // Kinetic rows (step "exact") miss nothing and report nothing false.
-        if r[3] == "exact" {
-            assert_eq!((r[6], r[10]), ("0", "0"), "{r:?}");
+        if r[4] == "exact" {
+            assert_eq!((r[7], r[11]), ("0", "0"), "{r:?}");
         }
+    }
+    // Each scene has exactly one default, a kinetic structure.
+    for scene in ["bullets", "gas", "marbles"] {
+        let defaults: Vec<_> = rows
+            .iter()
+            .filter(|r| r[0] == scene && r[3] == "true")
+            .collect();
+        assert_eq!(defaults.len(), 1, "{scene}: {defaults:?}");
+        assert_eq!(defaults[0][4], "exact");
     }
     // The bullets tunnel through the plates at 1/60 without CCD; rapier's CCD sees them.
     let missed = |method: &str, step: &str| -> usize {
         let r = rows
             .iter()
-            .find(|r| r[0] == "bullets" && r[2] == method && r[3] == step)
+            .find(|r| r[0] == "bullets" && r[2] == method && r[4] == step)
             .unwrap();
-        r[6].parse().unwrap()
+        r[7].parse().unwrap()
     };
     assert!(missed("stepped", "1/60") > 0);
     assert!(missed("rapier", "1/60") > 0);
     assert_eq!(missed("rapier+ccd", "1/60"), 0);
-    assert!(
-        table.contains("| bullets (28) | sweep | exact |"),
-        "{table}"
-    );
+    assert!(table.contains("| bullets (28) | sweep"), "{table}");
+    assert!(table.contains(" (default) | exact |"), "{table}");
     let png = std::fs::read(dir.join("compare.png")).unwrap();
     assert_eq!(&png[1..4], b"PNG");
     // A name that is neither a file, a family nor a case: status 2, naming it.

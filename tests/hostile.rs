@@ -350,3 +350,70 @@ fn syntax_errors_say_what_is_wrong() {
     assert!(out.status.success());
     assert_eq!(String::from_utf8_lossy(&out.stdout), TWO_BALLS_LOG);
 }
+
+#[test]
+fn a_second_signal_exits_at_once_and_leaves_no_partial_file() {
+    let dir = temp_dir("twice");
+    // A brute force over 6,000 spheres builds 1.8e7 certificates before its first event:
+    // the first signal waits for an instant, the second does not.
+    let scene = gas(&dir, 6000, 1e6);
+    let events = dir.join("events.jsonl");
+    let child = tool()
+        .arg("run")
+        .arg(&scene)
+        .args(["--structure", "brute-force", "--events"])
+        .arg(&events)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(300));
+    let kill = || {
+        Command::new("kill")
+            .arg("-INT")
+            .arg(child.id().to_string())
+            .status()
+            .unwrap()
+    };
+    assert!(kill().success());
+    std::thread::sleep(Duration::from_millis(100));
+    let second = std::time::Instant::now();
+    let _ = kill();
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(130));
+    assert!(
+        second.elapsed() < Duration::from_secs(2),
+        "{:?}",
+        second.elapsed()
+    );
+    let mut names = listing(&dir);
+    names.retain(|n| !n.starts_with("gas-"));
+    assert!(
+        names.is_empty() || names == ["events.jsonl"],
+        "no hidden file left: {names:?}"
+    );
+}
+
+#[test]
+fn no_structure_does_work_for_empty_space() {
+    let dir = temp_dir("empty");
+    // Two balls flying apart for 1e100 time units: nothing ever happens.
+    let scene = r#"{"world": "free", "horizon": 1e100, "objects": [
+      {"shape": {"ball": {"radius": 0.5}}, "position": [0, 0, 0], "velocity": [-1, 0.5, 0]},
+      {"shape": {"ball": {"radius": 0.5}}, "position": [5, 0, 0], "velocity": [1, 0.25, 0]}]}"#;
+    std::fs::write(dir.join("s.json"), scene).unwrap();
+    for structure in ["sweep", "grid", "loose-grid", "guards", "brute-force", ""] {
+        let mut args = vec!["run", "s.json", "--stats", "st.json"];
+        if !structure.is_empty() {
+            args.extend(["--structure", structure]);
+        }
+        let (code, err) = run_status(&args, &dir);
+        assert_eq!(code, 0, "{structure}: {err}");
+        let stats: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("st.json")).unwrap()).unwrap();
+        let events = stats["events"]["total"].as_u64().unwrap();
+        assert!(
+            events < 5000,
+            "{structure}: {events} events for two balls apart"
+        );
+    }
+}

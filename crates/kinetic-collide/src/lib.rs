@@ -61,6 +61,7 @@
 
 pub mod run;
 pub mod scene;
+pub mod structures;
 
 pub use kinetic_core::{
     Body, BruteForce, CandidateStructure, ContactEvent, ContactKind, ElasticCells, FlightPlan,

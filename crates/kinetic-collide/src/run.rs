@@ -1,91 +1,15 @@
 //! Running a scene: choose the structure, process events to the horizon, and write the event
 //! log and statistics exactly as the scene format says.
 
-use crate::scene::{Scene, ShapeSpec};
-use kinetic_core::{
-    BruteForce, CandidateStructure, ContactEvent, ContactKind, ElasticCells, FlightPlan, Response,
-    Shape, Stats, Walls, World, WorldError, WorldKind,
-};
-use kinetic_flight::{Choice, ConvexShape, Grid, Guards, LooseGrid, Sweep};
-use kinetic_rolling::{ListLayout, RollingTree};
+use crate::scene::Scene;
+use crate::structures::cell_balls;
+pub use crate::structures::{StructureName, build_world, cells_hold, choose_structure, shapes_of};
+use kinetic_core::{ContactEvent, ContactKind, ElasticCells, Stats, World, WorldError};
 use std::cell::RefCell;
 use std::fmt::Write as _;
 use std::ops::ControlFlow;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
-
-/// The kinetic structures, by their command-line names.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum StructureName {
-    /// Collision tree with threshold boxes (Section 2), plane worlds.
-    RollingTree,
-    /// The rolling tree with two global sorted lists (the paper's second remark).
-    RollingGlobalLists,
-    /// Sweep over boxes of similar-size objects (Section 3.1).
-    Sweep,
-    /// Guards and cones for arbitrary sizes (Section 3.2).
-    Guards,
-    /// The sweep's box pairs, found in a hierarchical kinetic grid (neighbours only).
-    Grid,
-    /// A loose kinetic grid: each object holds a region its box stays in for a while, and
-    /// candidates are the objects whose regions overlap (one certificate per object).
-    LooseGrid,
-    /// Elastic balls in walls on a hierarchical grid of cells, one scheduled event per ball
-    /// (the hard-sphere systems of molecular dynamics).
-    Cells,
-    /// One certificate per pair: the exact reference.
-    BruteForce,
-}
-
-impl StructureName {
-    /// Every name, as written on the command line.
-    pub const ALL: [(&'static str, StructureName); 8] = [
-        ("rolling-tree", StructureName::RollingTree),
-        ("rolling-global-lists", StructureName::RollingGlobalLists),
-        ("sweep", StructureName::Sweep),
-        ("guards", StructureName::Guards),
-        ("grid", StructureName::Grid),
-        ("loose-grid", StructureName::LooseGrid),
-        ("cells", StructureName::Cells),
-        ("brute-force", StructureName::BruteForce),
-    ];
-
-    /// Parses a command-line name.
-    pub fn parse(name: &str) -> Result<StructureName, RunError> {
-        Self::ALL
-            .iter()
-            .find(|(n, _)| *n == name)
-            .map(|(_, s)| *s)
-            .ok_or_else(|| {
-                let names: Vec<&str> = Self::ALL.iter().map(|(n, _)| *n).collect();
-                RunError::Input(format!(
-                    "--structure: unknown structure {name:?} (expected one of: {})",
-                    names.join(", ")
-                ))
-            })
-    }
-
-    /// Whether the structure runs `scene` (its world, shapes, response and walls).
-    pub fn applies_to(self, scene: &Scene) -> bool {
-        match self {
-            StructureName::BruteForce => true,
-            StructureName::RollingTree | StructureName::RollingGlobalLists => {
-                scene.world == WorldKind::Plane
-            }
-            StructureName::Sweep | StructureName::Grid | StructureName::LooseGrid => true,
-            StructureName::Guards => scene.world == WorldKind::Free,
-            StructureName::Cells => cells_hold(scene),
-        }
-    }
-
-    /// The command-line name.
-    pub fn as_str(self) -> &'static str {
-        Self::ALL
-            .iter()
-            .find(|(_, s)| *s == self)
-            .map_or("?", |(n, _)| n)
-    }
-}
 
 /// Why a run could not be done.
 #[derive(Debug, thiserror::Error)]
@@ -274,55 +198,6 @@ fn drive(
     })
 }
 
-/// The structure a scene gets when none is named: the lightest one that is exact for it.
-/// Elastic balls moving linearly inside walls get the cell grid ([`ElasticCells`]) when it
-/// fits their sizes; otherwise a plane world gets the rolling collision tree, and a free world
-/// the sweep over boxes when its inner radii differ by at most [`kinetic_flight::SIGMA_MAX`],
-/// guards otherwise.
-pub fn choose_structure(scene: &Scene) -> StructureName {
-    choose_for(scene, &shapes_of(scene).unwrap_or_default())
-}
-
-/// [`choose_structure`] for a scene whose shapes are built.
-fn choose_for(scene: &Scene, shapes: &[Shape]) -> StructureName {
-    if cell_balls(scene).is_some() {
-        return StructureName::Cells;
-    }
-    match scene.world {
-        WorldKind::Plane => StructureName::RollingTree,
-        WorldKind::Free if kinetic_flight::choose(shapes) == Choice::Guards => {
-            StructureName::Guards
-        }
-        WorldKind::Free => StructureName::Sweep,
-    }
-}
-
-/// The walls and balls of a scene that the cell grid holds: elastic, free, walls, balls only,
-/// no accelerations, and sizes for which the grid is small.
-fn cell_balls(scene: &Scene) -> Option<(Walls, Vec<(f64, FlightPlan)>)> {
-    let walls = scene.walls?;
-    if scene.world != WorldKind::Free || scene.response != Response::Elastic {
-        return None;
-    }
-    let mut balls = Vec::with_capacity(scene.objects.len());
-    for o in &scene.objects {
-        match o.shape {
-            ShapeSpec::Ball { radius } if o.acceleration == glam::DVec3::ZERO => {
-                balls.push((radius, o.plan()));
-            }
-            _ => return None,
-        }
-    }
-    let radii: Vec<f64> = balls.iter().map(|b| b.0).collect();
-    ElasticCells::supports(&walls, &radii).then_some((walls, balls))
-}
-
-/// Whether the cell grid holds the scene (elastic balls moving linearly inside walls, in a
-/// free world, with sizes for which the grid is small).
-pub fn cells_hold(scene: &Scene) -> bool {
-    cell_balls(scene).is_some()
-}
-
 /// Runs a scene on the cell grid.
 fn run_cells(
     scene: &Scene,
@@ -352,103 +227,33 @@ fn run_cells(
     output.finish(result, cells.now())
 }
 
-/// The objects' shapes, or the first that cannot be built.
-pub fn shapes_of(scene: &Scene) -> Result<Vec<Shape>, RunError> {
-    let mut shapes = Vec::with_capacity(scene.objects.len());
-    for (i, o) in scene.objects.iter().enumerate() {
-        shapes.push(match &o.shape {
-            ShapeSpec::Ball { radius } => Shape::Ball { radius: *radius },
-            ShapeSpec::Cuboid { half_extents } => ConvexShape::cuboid(*half_extents)
-                .map_err(|e| RunError::Input(format!("objects[{i}].shape.cuboid: {e}")))?
-                .into_shape(),
-            ShapeSpec::ConvexHull { points } => ConvexShape::convex_hull(points)
-                .map_err(|e| {
-                    RunError::Input(format!("objects[{i}].shape.convex_hull.points: {e}"))
-                })?
-                .into_shape(),
-        });
-    }
-    Ok(shapes)
-}
-
-fn make_structure(
-    scene: &Scene,
-    shapes: &[Shape],
-    name: StructureName,
-) -> Result<Box<dyn CandidateStructure>, RunError> {
-    match name {
-        StructureName::BruteForce => Ok(Box::new(BruteForce::new())),
-        StructureName::RollingTree if scene.world == WorldKind::Plane => {
-            Ok(Box::new(RollingTree::new(ListLayout::PerNode)))
-        }
-        StructureName::RollingGlobalLists if scene.world == WorldKind::Plane => {
-            Ok(Box::new(RollingTree::new(ListLayout::Global)))
-        }
-        StructureName::RollingTree | StructureName::RollingGlobalLists => {
-            Err(RunError::Input(format!(
-                "--structure {}: applies to \"plane\" worlds only",
-                name.as_str()
-            )))
-        }
-        // A ball rolling on the plane touches another at a distance of 2 sqrt(ra rb), at
-        // most ra + rb: the discs' boxes hold every contact, so the box structures serve.
-        StructureName::Guards if scene.world == WorldKind::Plane => Err(RunError::Input(format!(
-            "--structure {}: applies to \"free\" worlds only",
-            name.as_str()
-        ))),
-        StructureName::Sweep => Ok(Box::new(Sweep::new())),
-        StructureName::Grid => Ok(Box::new(Grid::new())),
-        StructureName::LooseGrid => Ok(Box::new(LooseGrid::new())),
-        StructureName::Guards => Ok(Box::new(Guards::new(kinetic_flight::guard_fatness(shapes)))),
-        StructureName::Cells => Err(RunError::Input(
-            "--structure cells: the cell grid runs whole scenes, not inside a world; \
-             frames are drawn from a world (use --structure grid)"
-                .to_string(),
-        )),
-    }
-}
-
-/// The world of `scene` at t = 0 with the named structure (or the chosen one).
-pub fn build_world(
-    scene: &Scene,
-    structure: Option<StructureName>,
-) -> Result<(World, StructureName), RunError> {
-    let shapes = shapes_of(scene)?;
-    let name = structure.unwrap_or_else(|| choose_for(scene, &shapes));
-    let mut world = World::with_structure(
-        scene.world,
-        scene.response,
-        scene.walls,
-        make_structure(scene, &shapes, name)?,
-    )
-    .map_err(|e| RunError::Input(format!("walls: {e}")))?;
-    world
-        .add_objects(
-            shapes
-                .into_iter()
-                .zip(scene.objects.iter().map(|o| o.plan())),
-        )
-        .map_err(|e| RunError::Input(format!("objects: {e}")))?;
-    Ok((world, name))
-}
-
 /// Runs `scene` to its horizon with the named structure (or the chosen one), holding every
 /// event in the output.
 pub fn run_scene(scene: &Scene, structure: Option<StructureName>) -> Result<RunOutput, RunError> {
+    holding_events(|stream| {
+        run_scene_streamed(scene, structure, &[], &mut |_, _| {}, stream).map(|out| (out, ()))
+    })
+    .map(|(out, ())| out)
+}
+
+/// Runs `run` with a stream that holds every event, and puts them in its output (a stopped
+/// run's partial output too): a streamed run made whole.
+pub fn holding_events<T>(
+    run: impl FnOnce(&mut Stream<'_>) -> Result<(RunOutput, T), RunError>,
+) -> Result<(RunOutput, T), RunError> {
     let mut events = Vec::new();
     let mut sink = |batch: &[ContactEvent]| {
         events.extend_from_slice(batch);
         ControlFlow::Continue(())
     };
-    let mut stream = Stream {
+    let result = run(&mut Stream {
         sink: &mut sink,
         stop: None,
-    };
-    let result = run_scene_streamed(scene, structure, &[], &mut |_, _| {}, &mut stream);
+    });
     match result {
-        Ok(mut output) => {
+        Ok((mut output, more)) => {
             output.events = events;
-            Ok(output)
+            Ok((output, more))
         }
         Err(RunError::Stopped {
             time,

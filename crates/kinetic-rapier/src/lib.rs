@@ -68,3 +68,5 @@ mod pairs;
 mod proxy;
 
 pub use broad_phase::{BroadPhaseStats, KineticBroadPhase, StepStats};
+/// The rapier this broad phase plugs into (0.27), as its types appear here.
+pub use rapier3d;

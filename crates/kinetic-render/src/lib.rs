@@ -30,6 +30,8 @@ mod snapshot;
 
 pub use camera::Camera;
 pub use frame::{Difference, Frame};
+/// The f32 vector crate of the renderer's types ([`Instance`], [`Camera`]).
+pub use glam;
 pub use gpu::{AdapterChoice, Renderer};
 pub use snapshot::{HullMesh, Instance, Line, MeshKind, Snapshot};
 

@@ -19,7 +19,7 @@ impl Poly {
     /// A polynomial from its coefficients, lowest degree first (at most 5 of them).
     ///
     /// ```
-    /// # use kinetic_core::Poly;
+    /// # use kinetic_core::kds::Poly;
     /// let p = Poly::new(&[-1.0, 0.0, 1.0]); // tau^2 - 1
     /// assert_eq!(p.eval(2.0), 3.0);
     /// ```

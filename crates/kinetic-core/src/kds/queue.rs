@@ -29,7 +29,7 @@ impl Entry {
 /// remove, O(1) peek.
 ///
 /// ```
-/// # use kinetic_core::EventQueue;
+/// # use kinetic_core::kds::EventQueue;
 /// let mut q = EventQueue::new();
 /// q.schedule(7, 2.0, 0);
 /// q.schedule(3, 1.0, 0);

@@ -71,7 +71,7 @@ impl Roots {
 /// coefficients, and the sign alternates across each simple root.
 ///
 /// ```
-/// # use kinetic_core::{Poly, roots::roots_after_zero};
+/// # use kinetic_core::kds::{Poly, roots::roots_after_zero};
 /// // (tau - 1)(tau - 3) = tau^2 - 4 tau + 3
 /// let r = roots_after_zero(&Poly::new(&[3.0, -4.0, 1.0]));
 /// assert_eq!(r.len(), 2);
@@ -116,7 +116,7 @@ fn in_range(p: &Poly) -> Poly {
 /// skipped: the certificate still holds after it.
 ///
 /// ```
-/// # use kinetic_core::{Poly, roots::first_sign_change};
+/// # use kinetic_core::kds::{Poly, roots::first_sign_change};
 /// assert_eq!(first_sign_change(&Poly::new(&[4.0, 0.0, -1.0])), Some(2.0)); // 4 - tau^2
 /// assert_eq!(first_sign_change(&Poly::new(&[1.0, -2.0, 1.0])), None); // (tau - 1)^2
 /// ```

@@ -10,7 +10,7 @@ use crate::poly::Poly;
 /// Degree 2 for coasting balls, 4 when their accelerations differ.
 ///
 /// ```
-/// # use kinetic_core::{certificates::ball_ball_gap, Vec3, roots::first_sign_change};
+/// # use kinetic_core::{kds::certificates::ball_ball_gap, Vec3, kds::roots::first_sign_change};
 /// let a = [Vec3::ZERO, Vec3::X, Vec3::ZERO];
 /// let b = [Vec3::new(10.0, 0.0, 0.0), Vec3::ZERO, Vec3::ZERO];
 /// let gap = ball_ball_gap(&a, &b, 4.0); // radii summing to 2

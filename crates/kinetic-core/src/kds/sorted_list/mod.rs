@@ -27,7 +27,7 @@ pub struct Swap {
 /// A kinetic sorted list of items named by dense `u32` ids.
 ///
 /// ```
-/// # use kinetic_core::{KineticSortedList, ScalarKey};
+/// # use kinetic_core::kds::{KineticSortedList, ScalarKey};
 /// let mut list = KineticSortedList::new();
 /// list.insert(0, ScalarKey::linear(0.0, 1.0)).unwrap(); // moves right
 /// list.insert(1, ScalarKey::linear(5.0, -1.0)).unwrap(); // moves left

@@ -1,0 +1,238 @@
+//! The registry of structures: every structure once, with its command-line name, what it
+//! applies to and how it is made, and the default's choice among them for a scene. The
+//! command-line tool, `compare`, the library's scene runner and the benches all go through it.
+
+use crate::run::RunError;
+use crate::scene::{Scene, ShapeSpec};
+use kinetic_core::{
+    BruteForce, CandidateStructure, ElasticCells, FlightPlan, Response, Shape, Walls, World,
+    WorldKind,
+};
+use kinetic_flight::{ConvexShape, Grid, Guards, LooseGrid, Sweep};
+use kinetic_rolling::{ListLayout, RollingTree};
+
+/// The kinetic structures, by their command-line names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StructureName {
+    /// Collision tree with threshold boxes (Section 2), plane worlds.
+    RollingTree,
+    /// The rolling tree with two global sorted lists (the paper's second remark).
+    RollingGlobalLists,
+    /// Sweep over boxes of similar-size objects (Section 3.1).
+    Sweep,
+    /// Guards and cones for arbitrary sizes (Section 3.2).
+    Guards,
+    /// The sweep's box pairs, found in a hierarchical kinetic grid (neighbours only).
+    Grid,
+    /// A loose kinetic grid: each object holds a region its box stays in for a while, and
+    /// candidates are the objects whose regions overlap (one certificate per object).
+    LooseGrid,
+    /// Elastic balls in walls on a hierarchical grid of cells, one scheduled event per ball
+    /// (the hard-sphere systems of molecular dynamics).
+    Cells,
+    /// One certificate per pair: the exact reference.
+    BruteForce,
+}
+
+impl StructureName {
+    /// Every name, as written on the command line.
+    pub const ALL: [(&'static str, StructureName); 8] = [
+        ("rolling-tree", StructureName::RollingTree),
+        ("rolling-global-lists", StructureName::RollingGlobalLists),
+        ("sweep", StructureName::Sweep),
+        ("guards", StructureName::Guards),
+        ("grid", StructureName::Grid),
+        ("loose-grid", StructureName::LooseGrid),
+        ("cells", StructureName::Cells),
+        ("brute-force", StructureName::BruteForce),
+    ];
+
+    /// Parses a command-line name.
+    pub fn parse(name: &str) -> Result<StructureName, RunError> {
+        Self::ALL
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, s)| *s)
+            .ok_or_else(|| {
+                let names: Vec<&str> = Self::ALL.iter().map(|(n, _)| *n).collect();
+                RunError::Input(format!(
+                    "--structure: unknown structure {name:?} (expected one of: {})",
+                    names.join(", ")
+                ))
+            })
+    }
+
+    /// Whether the structure runs `scene` (its world, shapes, response and walls).
+    pub fn applies_to(self, scene: &Scene) -> bool {
+        match self {
+            StructureName::BruteForce => true,
+            StructureName::RollingTree | StructureName::RollingGlobalLists => {
+                scene.world == WorldKind::Plane
+            }
+            StructureName::Sweep | StructureName::Grid | StructureName::LooseGrid => true,
+            StructureName::Guards => scene.world == WorldKind::Free,
+            StructureName::Cells => cells_hold(scene),
+        }
+    }
+
+    /// The command-line name.
+    pub fn as_str(self) -> &'static str {
+        Self::ALL
+            .iter()
+            .find(|(_, s)| *s == self)
+            .map_or("?", |(n, _)| n)
+    }
+}
+
+/// Sizes (outer radii) spread by at most this factor: the loose grid.
+pub const LOOSE_SPREAD: f64 = 50.0;
+/// Sizes spread by at most this factor (and more than [`LOOSE_SPREAD`]): the hierarchical
+/// grid; beyond it, the sweep.
+pub const GRID_SPREAD: f64 = 300.0;
+
+/// The structure a scene gets when none is named: the one measured fastest for scenes like
+/// it on the choice family (`cargo bench --bench choice`, `docs/results/choice.md`), which is
+/// not always the one the paper's theorems favour. By the spread of sizes (largest over
+/// smallest outer radius):
+///
+/// 1. elastic balls moving linearly inside walls: the cell grid ([`ElasticCells`]), one
+///    scheduled event per ball, when it fits their sizes;
+/// 2. sizes within [`LOOSE_SPREAD`]: the loose grid ([`LooseGrid`]), one certificate per
+///    object (its cells fit every region);
+/// 3. sizes within [`GRID_SPREAD`]: the hierarchical grid ([`Grid`]), exact box pairs level
+///    by level;
+/// 4. a wider spread: the sweep ([`Sweep`]), whose sorted lists do not care about sizes.
+///
+/// Plane worlds are held by the same box structures (a rolling ball's disc holds its
+/// contacts). The paper's other structures (rolling tree, guards) stay selectable by name.
+pub fn choose_structure(scene: &Scene) -> StructureName {
+    if cell_balls(scene).is_some() {
+        return StructureName::Cells;
+    }
+    let spread = scene.size_ratio();
+    if spread <= LOOSE_SPREAD {
+        StructureName::LooseGrid
+    } else if spread <= GRID_SPREAD {
+        StructureName::Grid
+    } else {
+        StructureName::Sweep
+    }
+}
+
+/// The walls and balls of a scene that the cell grid holds: elastic, free, walls, balls only,
+/// no accelerations, and sizes for which the grid is small.
+pub(crate) fn cell_balls(scene: &Scene) -> Option<(Walls, Vec<(f64, FlightPlan)>)> {
+    let walls = scene.walls?;
+    if scene.world != WorldKind::Free || scene.response != Response::Elastic {
+        return None;
+    }
+    let mut balls = Vec::with_capacity(scene.objects.len());
+    for o in &scene.objects {
+        match o.shape {
+            ShapeSpec::Ball { radius } if o.acceleration == glam::DVec3::ZERO => {
+                balls.push((radius, o.plan()));
+            }
+            _ => return None,
+        }
+    }
+    let radii: Vec<f64> = balls.iter().map(|b| b.0).collect();
+    ElasticCells::supports(&walls, &radii).then_some((walls, balls))
+}
+
+/// Whether the cell grid holds the scene (elastic balls moving linearly inside walls, in a
+/// free world, with sizes for which the grid is small).
+pub fn cells_hold(scene: &Scene) -> bool {
+    cell_balls(scene).is_some()
+}
+
+/// The objects' shapes, or the first that cannot be built.
+pub fn shapes_of(scene: &Scene) -> Result<Vec<Shape>, RunError> {
+    let mut shapes = Vec::with_capacity(scene.objects.len());
+    for (i, o) in scene.objects.iter().enumerate() {
+        shapes.push(match &o.shape {
+            ShapeSpec::Ball { radius } => Shape::Ball { radius: *radius },
+            ShapeSpec::Cuboid { half_extents } => ConvexShape::cuboid(*half_extents)
+                .map_err(|e| RunError::Input(format!("objects[{i}].shape.cuboid: {e}")))?
+                .into_shape(),
+            ShapeSpec::ConvexHull { points } => ConvexShape::convex_hull(points)
+                .map_err(|e| {
+                    RunError::Input(format!("objects[{i}].shape.convex_hull.points: {e}"))
+                })?
+                .into_shape(),
+        });
+    }
+    Ok(shapes)
+}
+
+fn make_structure(
+    scene: &Scene,
+    shapes: &[Shape],
+    name: StructureName,
+) -> Result<Box<dyn CandidateStructure>, RunError> {
+    match name {
+        StructureName::BruteForce => Ok(Box::new(BruteForce::new())),
+        StructureName::RollingTree if scene.world == WorldKind::Plane => {
+            Ok(Box::new(RollingTree::new(ListLayout::PerNode)))
+        }
+        StructureName::RollingGlobalLists if scene.world == WorldKind::Plane => {
+            Ok(Box::new(RollingTree::new(ListLayout::Global)))
+        }
+        StructureName::RollingTree | StructureName::RollingGlobalLists => {
+            Err(RunError::Input(format!(
+                "--structure {}: applies to \"plane\" worlds only",
+                name.as_str()
+            )))
+        }
+        // A ball rolling on the plane touches another at a distance of 2 sqrt(ra rb), at
+        // most ra + rb: the discs' boxes hold every contact, so the box structures serve.
+        StructureName::Guards if scene.world == WorldKind::Plane => Err(RunError::Input(format!(
+            "--structure {}: applies to \"free\" worlds only",
+            name.as_str()
+        ))),
+        StructureName::Sweep => Ok(Box::new(Sweep::new())),
+        StructureName::Grid => Ok(Box::new(Grid::new().with_least_flight(least_flight(scene)))),
+        StructureName::LooseGrid => Ok(Box::new(
+            LooseGrid::new().with_least_flight(least_flight(scene)),
+        )),
+        StructureName::Guards => Ok(Box::new(Guards::new(kinetic_flight::guard_fatness(shapes)))),
+        StructureName::Cells => Err(RunError::Input(
+            "--structure cells: the cell grid runs whole scenes, not inside a world; \
+             frames are drawn from a world (use --structure grid)"
+                .to_string(),
+        )),
+    }
+}
+
+/// Parts of the horizon a grid's region covers at least: an object crossing empty space
+/// costs the grids at most about this many events over the run, however long the horizon
+/// (two balls flying apart for 1e100 time units are done at once).
+const FLIGHT_PARTS: f64 = 1000.0;
+
+/// The least flight of the grids' regions for `scene` (see [`FLIGHT_PARTS`]).
+fn least_flight(scene: &Scene) -> f64 {
+    scene.horizon / FLIGHT_PARTS
+}
+
+/// The world of `scene` at t = 0 with the named structure (or the chosen one).
+pub fn build_world(
+    scene: &Scene,
+    structure: Option<StructureName>,
+) -> Result<(World, StructureName), RunError> {
+    let shapes = shapes_of(scene)?;
+    let name = structure.unwrap_or_else(|| choose_structure(scene));
+    let mut world = World::with_structure(
+        scene.world,
+        scene.response,
+        scene.walls,
+        make_structure(scene, &shapes, name)?,
+    )
+    .map_err(|e| RunError::Input(format!("walls: {e}")))?;
+    world
+        .add_objects(
+            shapes
+                .into_iter()
+                .zip(scene.objects.iter().map(|o| o.plan())),
+        )
+        .map_err(|e| RunError::Input(format!("objects: {e}")))?;
+    Ok((world, name))
+}

@@ -1,0 +1,85 @@
+//! The library's surface as a user meets it: the world and every structure can move to
+//! another thread or sit in a shared resource, and errors convert with `?` across crates.
+
+use kinetic_collide::run::RunError;
+use kinetic_collide::{
+    BruteForce, ConvexShape, FlightPlan, Grid, Guards, LooseGrid, RollingTree, Scene, Sweep, Vec3,
+    World, WorldError, WorldKind,
+};
+
+fn send_sync<T: Send + Sync>() {}
+
+#[test]
+fn the_world_and_every_structure_are_send_and_sync() {
+    send_sync::<World>();
+    send_sync::<BruteForce>();
+    send_sync::<Sweep>();
+    send_sync::<Guards>();
+    send_sync::<Grid>();
+    send_sync::<LooseGrid>();
+    send_sync::<RollingTree>();
+    send_sync::<kinetic_collide::ElasticCells>();
+    // And it runs on another thread.
+    let mut world = World::new(WorldKind::Free);
+    world
+        .add_ball(1.0, FlightPlan::at_rest(Vec3::ZERO))
+        .unwrap();
+    let handle = std::thread::spawn(move || {
+        world.advance_to(1.0).unwrap();
+        world.now()
+    });
+    assert_eq!(handle.join().unwrap(), 1.0);
+}
+
+/// A shape error becomes a world error with `?`.
+fn add_cuboid(world: &mut World, half: Vec3) -> Result<(), WorldError> {
+    let shape = ConvexShape::cuboid(half)?;
+    world.add_object(shape.into_shape(), FlightPlan::at_rest(Vec3::ZERO))?;
+    Ok(())
+}
+
+/// Scene and world errors become run errors with `?`.
+fn load(text: &str) -> Result<usize, RunError> {
+    let scene = Scene::from_json(text)?;
+    let mut world = World::new(WorldKind::Free);
+    world.add_ball(-1.0, FlightPlan::at_rest(Vec3::ZERO))?;
+    Ok(scene.objects.len())
+}
+
+#[test]
+fn errors_convert_across_crates() {
+    let mut world = World::new(WorldKind::Free);
+    assert!(add_cuboid(&mut world, Vec3::ONE).is_ok());
+    let err = add_cuboid(&mut world, Vec3::new(1.0, -1.0, 1.0)).unwrap_err();
+    assert!(matches!(err, WorldError::InvalidShape(_)), "{err}");
+    let err = load("{").unwrap_err();
+    assert!(err.to_string().contains("not valid JSON"), "{err}");
+    let err = load(r#"{"world": "free", "horizon": 1, "objects": []}"#).unwrap_err();
+    assert!(err.to_string().contains("radius"), "{err}");
+    // Magnitudes beyond the range are refused by the world too.
+    let err = world
+        .add_ball(1.0, FlightPlan::at_rest(Vec3::new(1e200, 0.0, 0.0)))
+        .unwrap_err();
+    assert!(matches!(err, WorldError::OutOfRange { .. }), "{err}");
+}
+
+#[test]
+fn a_zeno_trap_at_a_wall_names_the_object_and_the_wall() {
+    let wall = WorldError::Zeno {
+        time: 1.0,
+        limit: 10,
+        a: 1,
+        b: 1,
+    };
+    assert!(
+        wall.to_string().contains("object 1 against a wall"),
+        "{wall}"
+    );
+    let pair = WorldError::Zeno {
+        time: 1.0,
+        limit: 10,
+        a: 1,
+        b: 2,
+    };
+    assert!(pair.to_string().contains("objects 1 and 2"), "{pair}");
+}

@@ -1,0 +1,40 @@
+//! The default choice on the choice family: it always names a structure that applies to the
+//! scene, follows the documented rule, and gives the brute force's contacts.
+
+use kinetic_collide::run::{StructureName, choose_structure, run_scene};
+use kinetic_collide::structures::{GRID_SPREAD, LOOSE_SPREAD};
+use kinetic_scenes::audit::assert_same_contacts;
+use kinetic_scenes::choice::{KINDS, choice_family};
+
+#[test]
+fn the_default_applies_follows_the_rule_and_matches_the_brute_force() {
+    let cases = choice_family(&[60], 7);
+    assert_eq!(cases.len(), KINDS.len());
+    let mut picked = std::collections::BTreeSet::new();
+    for case in &cases {
+        let scene = &case.scene;
+        let pick = choose_structure(scene);
+        assert!(pick.applies_to(scene), "{}: {pick:?}", case.kind);
+        let spread = scene.size_ratio();
+        let want = if StructureName::Cells.applies_to(scene) {
+            StructureName::Cells
+        } else if spread <= LOOSE_SPREAD {
+            StructureName::LooseGrid
+        } else if spread <= GRID_SPREAD {
+            StructureName::Grid
+        } else {
+            StructureName::Sweep
+        };
+        assert_eq!(pick, want, "{} (spread {spread})", case.kind);
+        picked.insert(pick.as_str());
+        let reference = run_scene(scene, Some(StructureName::BruteForce)).unwrap();
+        let got = run_scene(scene, None).unwrap();
+        assert_eq!(got.structure, pick);
+        assert_same_contacts(&reference.events, &got.events, case.kind);
+    }
+    // The family exercises every branch of the rule.
+    assert_eq!(
+        picked.into_iter().collect::<Vec<_>>(),
+        ["cells", "grid", "loose-grid", "sweep"]
+    );
+}
