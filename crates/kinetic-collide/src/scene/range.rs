@@ -54,7 +54,7 @@ impl Scene {
                     o.position.length() + speed * h + o.acceleration.length() * h * h * 0.5 + size
                 }
             };
-            if !(reach <= MAX_REACH) {
+            if !reach.is_finite() || reach > MAX_REACH {
                 return Err(SceneError::new(
                     format!("objects[{i}]"),
                     format!(
