@@ -1,5 +1,6 @@
-//! Running a scene: choose the structure, process events to the horizon, and write the event
-//! log and statistics exactly as the scene format says.
+//! Running a scene on the structure the registry ([`crate::structures`]) names: events
+//! processed to the horizon and handed to a sink in batches that end between instants, and
+//! the event log and statistics written exactly as the scene format says.
 
 use crate::scene::Scene;
 use crate::structures::cell_balls;
