@@ -71,9 +71,10 @@ enum Command {
         #[arg(long, value_name = "DIR", default_value = "out/compare")]
         out: PathBuf,
     },
-    /// Write a hard-sphere scene (DynamO's benchmark systems): a gas of equal spheres or a
-    /// binary mixture with equal volume fractions, inside walls, elastic, Maxwell-Boltzmann
-    /// velocities at kT = 1, large spheres of diameter and mass 1.
+    /// Write a hard-sphere scene (the benchmark systems of DynamO and EDMD): a gas of equal
+    /// spheres or a binary mixture with equal volume fractions, inside walls or in a periodic
+    /// box, elastic, Maxwell-Boltzmann velocities at kT = 1, large spheres of diameter and
+    /// mass 1.
     Generate {
         /// Number of spheres.
         #[arg(long, default_value_t = 4000)]
@@ -81,7 +82,8 @@ enum Command {
         /// Small over large diameter, in (0, 1]; 1 gives the monodisperse gas.
         #[arg(long, default_value_t = 1.0)]
         ratio: f64,
-        /// Fraction of the box the spheres fill (at most 0.35).
+        /// Fraction of the box the spheres fill (at most 0.55; above 0.35 the spheres start on
+        /// a face-centred cubic lattice, which the run melts).
         #[arg(long, default_value_t = 0.26)]
         packing: f64,
         /// Horizon: about this many collisions (Enskog's rate).
@@ -90,6 +92,9 @@ enum Command {
         /// Random seed.
         #[arg(long, default_value_t = 1)]
         seed: u64,
+        /// A periodic box instead of walls (bulk figures: collision rate and pressure).
+        #[arg(long)]
+        periodic: bool,
         /// Where to write the scene (default: standard output).
         #[arg(long, short)]
         out: Option<PathBuf>,
@@ -113,6 +118,7 @@ fn main() -> ExitCode {
             packing,
             collisions,
             seed,
+            periodic,
             out,
         }) => generate(
             HardSpheres {
@@ -121,6 +127,7 @@ fn main() -> ExitCode {
                 packing,
                 collisions,
                 seed,
+                periodic,
             },
             out.as_deref(),
         ),
@@ -424,9 +431,14 @@ fn generate(spheres: HardSpheres, out: Option<&Path>) -> Result<(), Failure> {
         .map(|s| format!("{} of diameter {}", s.count, s.diameter))
         .collect();
     eprintln!(
-        "{} spheres ({}), walls of side {:.4}, horizon {:.6} for about {} collisions",
+        "{} spheres ({}), {} of side {:.4}, horizon {:.6} for about {} collisions",
         spheres.n,
         counts.join(", "),
+        if spheres.periodic {
+            "periodic box"
+        } else {
+            "walls"
+        },
         spheres.side(),
         scene.horizon,
         spheres.collisions

@@ -142,6 +142,7 @@ mod tests {
             horizon: 1.0,
             response: Response::None,
             walls: None,
+            periodic: None,
             objects: vec![
                 SceneObject::ball(0.5, Vec3::new(-2.0, 0.0, 0.0), Vec3::new(speed, 0.0, 0.0)),
                 SceneObject::ball(0.5, Vec3::ZERO, Vec3::ZERO),

@@ -344,6 +344,57 @@ fn every_error_case_names_the_field_and_writes_nothing() {
             ),
             "objects[0].position[2]: the ball (radius 1) starts outside the walls",
         ),
+        (
+            scene_with(
+                r#""world": "free", "horizon": 1, "response": "elastic", "periodic": {"min": [0, 0, 0], "max": [10, 10, 10]}, "walls": {"min": [0, 0, 0], "max": [10, 10, 10]}"#,
+                &[],
+            ),
+            "periodic: cannot be combined with walls",
+        ),
+        (
+            scene_with(
+                r#""world": "free", "horizon": 1, "periodic": {"min": [0, 0, 0], "max": [10, 10, 10]}"#,
+                &[],
+            ),
+            "periodic: needs the \"elastic\" response",
+        ),
+        (
+            scene_with(
+                r#""world": "plane", "horizon": 1, "response": "elastic", "periodic": {"min": [0, 0, 0], "max": [10, 10, 10]}"#,
+                &[],
+            ),
+            "periodic: applies to \"free\" worlds only",
+        ),
+        (
+            scene_with(
+                r#""world": "free", "horizon": 1, "response": "elastic", "periodic": {"min": [0, 0, 0], "max": [10, 10, 0]}"#,
+                &[],
+            ),
+            "periodic.max[2]: must be greater",
+        ),
+        (
+            scene_with(
+                r#""world": "free", "horizon": 1, "response": "elastic", "periodic": {"min": [0, 0, 0], "max": [10, 10, 10]}"#,
+                &[r#"{"shape": {"ball": {"radius": 1}}, "position": [5, 5, 11]}"#],
+            ),
+            "objects[0].position[2]: the centre starts outside the periodic box",
+        ),
+        (
+            scene_with(
+                r#""world": "free", "horizon": 1, "response": "elastic", "periodic": {"min": [0, 0, 0], "max": [10, 10, 10]}"#,
+                &[
+                    r#"{"shape": {"ball": {"radius": 1}}, "position": [5, 5, 5], "acceleration": [0, 0, -1]}"#,
+                ],
+            ),
+            "objects[0].acceleration: balls in a periodic box move linearly",
+        ),
+        (
+            scene_with(
+                r#""world": "free", "horizon": 1, "response": "elastic", "periodic": {"min": [0, 0, 0], "max": [5, 5, 5]}"#,
+                &[r#"{"shape": {"ball": {"radius": 1}}, "position": [2, 2, 2]}"#],
+            ),
+            "periodic box: each side must be at least",
+        ),
     ];
     let dir = temp_dir("errors");
     for (scene, expected) in &cases {
@@ -566,6 +617,60 @@ fn generate_writes_hard_spheres_that_run_on_the_cell_grid() {
         assert_eq!(out.status.code(), Some(2));
         assert!(String::from_utf8_lossy(&out.stderr).contains(name));
         assert!(!bad.exists());
+    }
+}
+
+#[test]
+fn generate_periodic_dense_fluids_that_report_the_bulk() {
+    let dir = temp_dir("periodic");
+    let out = tool()
+        .args([
+            "generate",
+            "--n",
+            "500",
+            "--packing",
+            "0.45",
+            "--periodic",
+            "--collisions",
+            "20000",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    let scene = kinetic_collide::scene::Scene::from_json(&text).unwrap();
+    assert!(scene.periodic.is_some() && scene.walls.is_none());
+    assert_eq!(
+        kinetic_collide::scene::Scene::from_json(&scene.to_json()).unwrap(),
+        scene
+    );
+    let (status, err, events, stats) = run(&dir, &text, &[]);
+    assert_eq!(status, 0, "{err}");
+    let stats: serde_json::Value = serde_json::from_str(&stats.unwrap()).unwrap();
+    assert_eq!(stats["structure"], "periodic");
+    let bulk = &stats["bulk"];
+    for key in [
+        "collision_rate",
+        "pressure",
+        "compressibility",
+        "temperature",
+        "packing",
+    ] {
+        assert!(bulk[key].as_f64().is_some_and(|v| v > 0.0), "{key}: {bulk}");
+    }
+    assert!((bulk["packing"].as_f64().unwrap() - 0.45).abs() < 1e-9);
+    assert!(events.unwrap().lines().count() > 10_000);
+    // The other structures do not wrap: naming one is an error, and so are frames.
+    for extra in [&["--structure", "grid"][..], &["--frames", "2"][..]] {
+        let (status, err, events, _) = run(&dir, &text, extra);
+        assert_eq!(status, 2, "{extra:?}: {err}");
+        assert!(err.contains("periodic"), "{err}");
+        assert!(events.is_none());
     }
 }
 

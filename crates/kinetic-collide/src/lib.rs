@@ -64,9 +64,9 @@ pub mod scene;
 pub mod structures;
 
 pub use kinetic_core::{
-    Body, BruteForce, CandidateStructure, ContactEvent, ContactKind, ElasticCells, FlightPlan,
-    MAX_MAGNITUDE, ObjectId, Quat, Real, Response, Shape, Stats, StepKind, Vec3, Walls, World,
-    WorldError, WorldKind,
+    Body, BruteForce, Bulk, CandidateStructure, ContactEvent, ContactKind, ElasticCells,
+    FlightPlan, MAX_MAGNITUDE, ObjectId, PeriodicBox, PeriodicSpheres, Quat, Real, Response, Shape,
+    Stats, StepKind, Vec3, Walls, World, WorldError, WorldKind,
 };
 pub use kinetic_flight::{ConvexShape, Grid, Guards, LooseGrid, ShapeError, Sweep};
 pub use kinetic_rolling::{ListLayout, RollingTree};

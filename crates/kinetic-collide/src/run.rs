@@ -3,9 +3,11 @@
 //! the event log and statistics written exactly as the scene format says.
 
 use crate::scene::Scene;
-use crate::structures::cell_balls;
 pub use crate::structures::{StructureName, build_world, cells_hold, choose_structure, shapes_of};
-use kinetic_core::{ContactEvent, ContactKind, ElasticCells, Stats, World, WorldError};
+use crate::structures::{cell_balls, periodic_balls};
+use kinetic_core::{
+    Bulk, ContactEvent, ContactKind, ElasticCells, PeriodicSpheres, Stats, World, WorldError,
+};
 use std::cell::RefCell;
 use std::fmt::Write as _;
 use std::ops::ControlFlow;
@@ -68,6 +70,8 @@ pub struct RunOutput {
     pub stats: Stats,
     /// The structure's own figures, by name.
     pub structure_stats: Vec<(&'static str, f64)>,
+    /// A periodic run's collision rate, temperature and pressure.
+    pub bulk: Option<Bulk>,
     /// Wall-clock seconds of the detection (excluding parsing and writing).
     pub wall_seconds: f64,
 }
@@ -106,6 +110,24 @@ trait Engine {
 impl Engine for World {
     fn step_to(&mut self, until: f64) -> Result<bool, WorldError> {
         Ok(self.step(until)?.is_some())
+    }
+    fn next_time(&self) -> f64 {
+        self.next_event_time()
+    }
+    fn clock(&self) -> f64 {
+        self.now()
+    }
+    fn take_events(&mut self) -> Vec<ContactEvent> {
+        self.drain_events()
+    }
+    fn finish(&mut self, horizon: f64) -> Result<(), WorldError> {
+        self.advance_to(horizon)
+    }
+}
+
+impl Engine for PeriodicSpheres {
+    fn step_to(&mut self, until: f64) -> Result<bool, WorldError> {
+        self.step(until)
     }
     fn next_time(&self) -> f64 {
         self.next_event_time()
@@ -223,9 +245,39 @@ fn run_cells(
         interrupted: None,
         stats: cells.stats().clone(),
         structure_stats: cells.counters(),
+        bulk: None,
         wall_seconds: start.elapsed().as_secs_f64(),
     };
     output.finish(result, cells.now())
+}
+
+/// Runs a scene in a periodic box.
+fn run_periodic(
+    scene: &Scene,
+    start: Instant,
+    stream: &mut Stream<'_>,
+) -> Result<RunOutput, RunError> {
+    let (cell, balls) = periodic_balls(scene).ok_or_else(|| {
+        RunError::Input(
+            "--structure periodic: applies to elastic balls moving linearly in a periodic box"
+                .to_string(),
+        )
+    })?;
+    let mut gas =
+        PeriodicSpheres::new(cell, &balls).map_err(|e| RunError::Input(format!("objects: {e}")))?;
+    let result = drive(&mut gas, scene.horizon, stream);
+    let output = RunOutput {
+        structure: StructureName::Periodic,
+        objects: scene.objects.len(),
+        horizon: scene.horizon,
+        events: Vec::new(),
+        interrupted: None,
+        stats: gas.stats(),
+        structure_stats: gas.counters(),
+        bulk: Some(gas.bulk()),
+        wall_seconds: start.elapsed().as_secs_f64(),
+    };
+    output.finish(result, gas.now())
 }
 
 /// Runs `scene` to its horizon with the named structure (or the chosen one), holding every
@@ -287,6 +339,27 @@ pub fn run_scene_streamed(
 ) -> Result<RunOutput, RunError> {
     let start = Instant::now();
     let chosen = structure.unwrap_or_else(|| choose_structure(scene));
+    if scene.periodic.is_some() || chosen == StructureName::Periodic {
+        if !times.is_empty() {
+            return Err(RunError::Input(
+                "--frames: frames are drawn from a world, and a periodic scene runs on the \
+                 periodic structure only"
+                    .to_string(),
+            ));
+        }
+        if chosen != StructureName::Periodic || scene.periodic.is_none() {
+            return Err(RunError::Input(format!(
+                "--structure {}: {}",
+                chosen.as_str(),
+                if scene.periodic.is_some() {
+                    "a periodic scene runs on the periodic structure only"
+                } else {
+                    "applies to scenes with a periodic box only"
+                }
+            )));
+        }
+        return run_periodic(scene, start, stream);
+    }
     if chosen == StructureName::Cells {
         if times.is_empty() {
             return run_cells(scene, start, stream);
@@ -358,6 +431,7 @@ pub fn run_scene_streamed(
         interrupted,
         stats: world.stats().clone(),
         structure_stats: world.structure_counters(),
+        bulk: None,
         wall_seconds: start.elapsed().as_secs_f64(),
     };
     output.finish(result, world.now())
@@ -422,6 +496,15 @@ impl RunOutput {
             "wall_seconds": self.wall_seconds,
         });
         let mut value = value;
+        if let Some(b) = &self.bulk {
+            value["bulk"] = serde_json::json!({
+                "collision_rate": b.collision_rate,
+                "temperature": b.temperature,
+                "pressure": b.pressure,
+                "compressibility": b.compressibility,
+                "packing": b.packing,
+            });
+        }
         if let Some(stop) = &self.interrupted {
             value["interrupted"] = serde_json::json!({"time": stop.time, "reason": stop.reason});
         }

@@ -5,8 +5,8 @@
 use crate::run::RunError;
 use crate::scene::{Scene, ShapeSpec};
 use kinetic_core::{
-    BruteForce, CandidateStructure, ElasticCells, FlightPlan, Response, Shape, Walls, World,
-    WorldKind,
+    BruteForce, CandidateStructure, ElasticCells, FlightPlan, PeriodicBox, Response, Shape, Walls,
+    World, WorldKind,
 };
 use kinetic_flight::{ConvexShape, Grid, Guards, LooseGrid, Sweep};
 use kinetic_rolling::{ListLayout, RollingTree};
@@ -30,13 +30,16 @@ pub enum StructureName {
     /// Elastic balls in walls on a hierarchical grid of cells, one scheduled event per ball
     /// (the hard-sphere systems of molecular dynamics).
     Cells,
+    /// Elastic balls in a periodic box, with neighbour lists and one scheduled event per ball
+    /// (bulk hard-sphere fluids); the only structure for periodic scenes.
+    Periodic,
     /// One certificate per pair: the exact reference.
     BruteForce,
 }
 
 impl StructureName {
     /// Every name, as written on the command line.
-    pub const ALL: [(&'static str, StructureName); 8] = [
+    pub const ALL: [(&'static str, StructureName); 9] = [
         ("rolling-tree", StructureName::RollingTree),
         ("rolling-global-lists", StructureName::RollingGlobalLists),
         ("sweep", StructureName::Sweep),
@@ -44,6 +47,7 @@ impl StructureName {
         ("grid", StructureName::Grid),
         ("loose-grid", StructureName::LooseGrid),
         ("cells", StructureName::Cells),
+        ("periodic", StructureName::Periodic),
         ("brute-force", StructureName::BruteForce),
     ];
 
@@ -64,7 +68,11 @@ impl StructureName {
 
     /// Whether the structure runs `scene` (its world, shapes, response and walls).
     pub fn applies_to(self, scene: &Scene) -> bool {
+        if scene.periodic.is_some() {
+            return self == StructureName::Periodic;
+        }
         match self {
+            StructureName::Periodic => false,
             StructureName::BruteForce => true,
             StructureName::RollingTree | StructureName::RollingGlobalLists => {
                 scene.world == WorldKind::Plane
@@ -95,6 +103,9 @@ pub const GRID_SPREAD: f64 = 300.0;
 /// not always the one the paper's theorems favour. By the spread of sizes (largest over
 /// smallest outer radius):
 ///
+/// A periodic box gets the periodic structure ([`crate::PeriodicSpheres`]), the only one
+/// that wraps. Otherwise:
+///
 /// 1. elastic balls moving linearly inside walls: the cell grid ([`ElasticCells`]), one
 ///    scheduled event per ball, when it fits their sizes;
 /// 2. sizes within [`LOOSE_SPREAD`]: the loose grid ([`LooseGrid`]), one certificate per
@@ -106,6 +117,9 @@ pub const GRID_SPREAD: f64 = 300.0;
 /// Plane worlds are held by the same box structures (a rolling ball's disc holds its
 /// contacts). The paper's other structures (rolling tree, guards) stay selectable by name.
 pub fn choose_structure(scene: &Scene) -> StructureName {
+    if scene.periodic.is_some() {
+        return StructureName::Periodic;
+    }
     if cell_balls(scene).is_some() {
         return StructureName::Cells;
     }
@@ -137,6 +151,21 @@ pub(crate) fn cell_balls(scene: &Scene) -> Option<(Walls, Vec<(f64, FlightPlan)>
     }
     let radii: Vec<f64> = balls.iter().map(|b| b.0).collect();
     ElasticCells::supports(&walls, &radii).then_some((walls, balls))
+}
+
+/// The periodic box and balls of a periodic scene (its objects are elastic balls moving
+/// linearly: the scene format checks that).
+pub(crate) fn periodic_balls(scene: &Scene) -> Option<(PeriodicBox, Vec<(f64, FlightPlan)>)> {
+    let cell = scene.periodic?;
+    let balls = scene
+        .objects
+        .iter()
+        .map(|o| match o.shape {
+            ShapeSpec::Ball { radius } => Some((radius, o.plan())),
+            _ => None,
+        })
+        .collect::<Option<Vec<_>>>()?;
+    Some((cell, balls))
 }
 
 /// Whether the cell grid holds the scene (elastic balls moving linearly inside walls, in a
@@ -195,11 +224,11 @@ fn make_structure(
             LooseGrid::new().with_least_flight(least_flight(scene)),
         )),
         StructureName::Guards => Ok(Box::new(Guards::new(kinetic_flight::guard_fatness(shapes)))),
-        StructureName::Cells => Err(RunError::Input(
-            "--structure cells: the cell grid runs whole scenes, not inside a world; \
-             frames are drawn from a world (use --structure grid)"
-                .to_string(),
-        )),
+        StructureName::Cells | StructureName::Periodic => Err(RunError::Input(format!(
+            "--structure {}: runs whole scenes, not inside a world; frames are drawn from a \
+             world (use --structure grid)",
+            name.as_str()
+        ))),
     }
 }
 
@@ -220,6 +249,13 @@ pub fn build_world(
 ) -> Result<(World, StructureName), RunError> {
     let shapes = shapes_of(scene)?;
     let name = structure.unwrap_or_else(|| choose_structure(scene));
+    if scene.periodic.is_some() {
+        return Err(RunError::Input(
+            "periodic: a periodic scene runs on the periodic structure, not inside a world \
+             (frames and the other structures do not wrap)"
+                .to_string(),
+        ));
+    }
     let mut world = World::with_structure(
         scene.world,
         scene.response,

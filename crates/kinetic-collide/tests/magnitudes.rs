@@ -44,6 +44,7 @@ fn scene(seeds: &[(u8, [i8; 3], [i8; 3])], scale: f64, world: WorldKind, boxes: 
         horizon: 20.0,
         response: Response::None,
         walls: None,
+        periodic: None,
         objects,
     }
 }

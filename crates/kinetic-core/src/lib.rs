@@ -38,6 +38,6 @@ pub use plan::FlightPlan;
 pub use structure::CandidateStructure;
 pub use world::step::StepKind;
 pub use world::{
-    ContactEvent, ContactKind, ElasticCells, MAX_MAGNITUDE, ObjectId, Response, Stats, Walls,
-    World, WorldError, WorldKind,
+    Bulk, ContactEvent, ContactKind, ElasticCells, MAX_MAGNITUDE, ObjectId, PeriodicBox,
+    PeriodicSpheres, Response, Stats, Walls, World, WorldError, WorldKind,
 };

@@ -43,6 +43,7 @@ fn small_systems() -> Vec<(String, Scene)> {
                 packing: 0.2,
                 collisions: 400.0,
                 seed,
+                periodic: false,
             };
             out.push((format!("ratio {ratio} seed {seed}"), h.build().unwrap()));
         }

@@ -41,6 +41,7 @@ fn free(objects: Vec<SceneObject>, horizon: f64) -> Scene {
         horizon,
         response: Response::None,
         walls: None,
+        periodic: None,
         objects,
     }
 }

@@ -161,6 +161,7 @@ fn scene_of(world: WorldKind, response: Response, balls: &[(f64, [f64; 2], [f64;
         horizon: 10.0,
         response,
         walls: None,
+        periodic: None,
         objects,
     }
 }

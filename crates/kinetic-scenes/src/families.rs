@@ -127,6 +127,7 @@ fn bullets(n: usize, seed: u64) -> Scene {
         horizon: 1.0,
         response: Response::None,
         walls: None,
+        periodic: None,
         objects,
     }
 }
@@ -156,6 +157,7 @@ fn pile(n: usize, seed: u64) -> Scene {
         horizon: 10.0,
         response: Response::None,
         walls: None,
+        periodic: None,
         objects,
     }
 }
@@ -221,6 +223,7 @@ impl Case {
             horizon,
             response: Response::None,
             walls: None,
+            periodic: None,
             objects,
         };
         match self {

@@ -146,6 +146,7 @@ impl BallScene {
             horizon: self.horizon,
             response: self.response,
             walls,
+            periodic: None,
             objects,
         }
     }
@@ -307,6 +308,7 @@ impl FlightScene {
             horizon: self.horizon,
             response: Response::None,
             walls: None,
+            periodic: None,
             objects,
         }
     }
@@ -442,6 +444,7 @@ impl NestScene {
             horizon: self.horizon,
             response: Response::None,
             walls: None,
+            periodic: None,
             objects,
         }
     }

@@ -1,27 +1,35 @@
-//! Hard-sphere systems, as event-driven molecular dynamics (DynamO) benchmarks them: a gas of
-//! equal spheres, or a binary mixture of large and small spheres with equal volume fractions,
-//! at a packing fraction, inside walls, with elastic response and Maxwell-Boltzmann velocities
-//! at temperature 1.
+//! Hard-sphere systems, as event-driven molecular dynamics (DynamO, EDMD) benchmarks them: a
+//! gas of equal spheres, or a binary mixture of large and small spheres with equal volume
+//! fractions, at a packing fraction, inside walls or in a periodic box, with elastic response
+//! and Maxwell-Boltzmann velocities at temperature 1.
 //!
 //! Units as DynamO's: the large spheres have diameter 1 and mass 1; a small sphere of diameter
 //! `ratio` has mass `ratio^3` (the scene format's masses go as radius cubed); kT = 1.
 //!
-//! The start is non-overlapping: random sequential placement, large spheres first, with one
-//! cell grid per species, so building 256000 spheres is linear work. The horizon is set from
+//! The start is non-overlapping. Up to [`RANDOM_MAX`]: random sequential placement, large
+//! spheres first, with one cell grid per species, so building 256000 spheres is linear work.
+//! Denser systems (up to [`PACKING_MAX`]) start on a face-centred cubic lattice, the species
+//! shuffled over its sites (with vacancies where `n` is not four times a cube), which the run
+//! melts. Random centres are at least their radius inside the box, so spheres on opposite
+//! faces of a periodic box do not overlap through it. The horizon is set from
 //! Enskog's collision rate (with the Boublik-Mansoori-Carnahan-Starling-Leland contact
 //! values) so that the run holds about the number of collisions asked for.
 
 use glam::DVec3;
 use kinetic_collide::scene::{Scene, SceneObject};
-use kinetic_collide::{Response, Walls, WorldKind};
+use kinetic_collide::{PeriodicBox, Response, Walls, WorldKind};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 use std::f64::consts::PI;
 
-/// The densest packing fraction the generator accepts: random sequential placement of equal
-/// spheres jams near 0.38, and a mixture fills less easily.
-pub const PACKING_MAX: f64 = 0.35;
+/// The densest packing fraction placed at random: random sequential placement of equal spheres
+/// jams near 0.38, and a mixture fills less easily. Denser systems start on a lattice.
+pub const RANDOM_MAX: f64 = 0.35;
+
+/// The densest packing fraction the generator accepts (fluids melt from a lattice start up to
+/// about the freezing point, 0.494, and stay glassy or crystalline beyond).
+pub const PACKING_MAX: f64 = 0.55;
 
 /// A hard-sphere system.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -36,6 +44,8 @@ pub struct HardSpheres {
     pub collisions: f64,
     /// The random seed.
     pub seed: u64,
+    /// A periodic box instead of walls.
+    pub periodic: bool,
 }
 
 /// What is wrong with a hard-sphere request.
@@ -50,6 +60,17 @@ pub enum HardSpheresError {
         why: &'static str,
         /// What was given.
         value: f64,
+    },
+    /// The lattice start does not fit: its nearest sites are closer than a large diameter.
+    #[error(
+        "{n} spheres at packing {packing} do not fit a lattice start{}",
+        if *packing > 0.5 { "" } else { " inside walls: use more spheres or a periodic box" }
+    )]
+    TooDense {
+        /// Spheres asked for.
+        n: usize,
+        /// The packing fraction.
+        packing: f64,
     },
     /// Random placement gave up: the box is too full.
     #[error(
@@ -86,6 +107,7 @@ impl HardSpheres {
             packing: 0.26,
             collisions: 1e6,
             seed: 1,
+            periodic: false,
         }
     }
 
@@ -107,7 +129,7 @@ impl HardSpheres {
             return bad("ratio", "small over large diameter, in (0, 1]", self.ratio);
         }
         if !(self.packing > 0.0 && self.packing <= PACKING_MAX) {
-            return bad("packing", "in (0, 0.35]", self.packing);
+            return bad("packing", "in (0, 0.55]", self.packing);
         }
         if !(self.collisions.is_finite() && self.collisions > 0.0) {
             return bad("collisions", "finite and > 0", self.collisions);
@@ -191,15 +213,54 @@ impl HardSpheres {
         rate
     }
 
-    /// The scene: walls from the origin to `side` on every axis, the spheres placed apart,
-    /// velocities drawn from Maxwell-Boltzmann at kT = 1 (the whole system's momentum
-    /// removed), and a horizon of about `collisions` collisions.
+    /// The scene: walls (or a periodic box) from the origin to `side` on every axis, the
+    /// spheres placed apart, velocities drawn from Maxwell-Boltzmann at kT = 1 (the whole
+    /// system's momentum removed), and a horizon of about `collisions` collisions.
     pub fn build(&self) -> Result<Scene, HardSpheresError> {
         self.check()?;
         let side = self.side();
         let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
         let species = self.species();
-        let mut placer = Placer::new(&species, side);
+        let objects = if self.packing <= RANDOM_MAX {
+            self.random_start(&species, side, &mut rng)?
+        } else {
+            self.lattice_start(&species, side, &mut rng)?
+        };
+        // No drift: the system's momentum is zero.
+        let total_mass: f64 = objects.iter().map(|(m, _)| m).sum();
+        let drift = objects.iter().map(|(m, o)| o.velocity * *m).sum::<DVec3>() / total_mass;
+        let objects = objects
+            .into_iter()
+            .map(|(_, mut o)| {
+                o.velocity -= drift;
+                o
+            })
+            .collect();
+        let bounds = (DVec3::ZERO, DVec3::splat(side));
+        Ok(Scene {
+            world: WorldKind::Free,
+            horizon: self.collisions / self.collision_rate(),
+            response: Response::Elastic,
+            walls: (!self.periodic).then_some(Walls {
+                min: bounds.0,
+                max: bounds.1,
+            }),
+            periodic: self.periodic.then_some(PeriodicBox {
+                min: bounds.0,
+                max: bounds.1,
+            }),
+            objects,
+        })
+    }
+
+    /// Random sequential placement, with each sphere's velocity drawn as it is placed.
+    fn random_start(
+        &self,
+        species: &[Species],
+        side: f64,
+        rng: &mut ChaCha8Rng,
+    ) -> Result<Vec<(f64, SceneObject)>, HardSpheresError> {
+        let mut placer = Placer::new(species, side);
         let mut objects = Vec::with_capacity(self.n);
         let mut attempts = 0usize;
         for (k, s) in species.iter().enumerate() {
@@ -233,26 +294,81 @@ impl HardSpheres {
                 objects.push((s.mass, SceneObject::ball(r, position, velocity)));
             }
         }
-        // No drift: the system's momentum is zero.
-        let total_mass: f64 = objects.iter().map(|(m, _)| m).sum();
-        let drift = objects.iter().map(|(m, o)| o.velocity * *m).sum::<DVec3>() / total_mass;
-        let objects = objects
-            .into_iter()
-            .map(|(_, mut o)| {
-                o.velocity -= drift;
-                o
-            })
+        Ok(objects)
+    }
+
+    /// A face-centred cubic lattice of `4 k^3 >= n` sites (`n` of them taken at random), the
+    /// species shuffled over them; inside walls the lattice is drawn in by the largest radius
+    /// so that every sphere starts inside.
+    fn lattice_start(
+        &self,
+        species: &[Species],
+        side: f64,
+        rng: &mut ChaCha8Rng,
+    ) -> Result<Vec<(f64, SceneObject)>, HardSpheresError> {
+        let k = ((self.n as f64 / 4.0).cbrt().ceil() as usize).max(1);
+        let r_max = species.iter().map(|s| s.diameter / 2.0).fold(0.0, f64::max);
+        // Fractions of the span: a site at (i + o) / k, o in {1/4, 3/4}; inside walls mapped
+        // onto [r_max, side - r_max].
+        let (lo, span, cells) = if self.periodic {
+            (0.0, side, k as f64)
+        } else {
+            (r_max, side - 2.0 * r_max, k as f64 - 0.5)
+        };
+        let cell = span / cells;
+        let nearest = cell / 2f64.sqrt();
+        if !(span > 0.0 && nearest >= 2.0 * r_max) {
+            return Err(HardSpheresError::TooDense {
+                n: self.n,
+                packing: self.packing,
+            });
+        }
+        let offset = if self.periodic { 0.0 } else { 0.25 };
+        let mut sites = Vec::with_capacity(4 * k * k * k);
+        for i in 0..k {
+            for j in 0..k {
+                for l in 0..k {
+                    for o in [
+                        [0.25, 0.25, 0.25],
+                        [0.75, 0.75, 0.25],
+                        [0.75, 0.25, 0.75],
+                        [0.25, 0.75, 0.75],
+                    ] {
+                        let f = DVec3::new(i as f64 + o[0], j as f64 + o[1], l as f64 + o[2]);
+                        sites.push(DVec3::splat(lo) + (f - offset) * cell);
+                    }
+                }
+            }
+        }
+        // n sites at random, then the species in random order over them.
+        for i in 0..self.n {
+            let j = rng.random_range(i..sites.len());
+            sites.swap(i, j);
+        }
+        sites.truncate(self.n);
+        let mut kinds: Vec<usize> = species
+            .iter()
+            .enumerate()
+            .flat_map(|(k, s)| std::iter::repeat_n(k, s.count))
             .collect();
-        Ok(Scene {
-            world: WorldKind::Free,
-            horizon: self.collisions / self.collision_rate(),
-            response: Response::Elastic,
-            walls: Some(Walls {
-                min: DVec3::ZERO,
-                max: DVec3::splat(side),
-            }),
-            objects,
-        })
+        for i in (1..kinds.len()).rev() {
+            let j = rng.random_range(0..=i);
+            kinds.swap(i, j);
+        }
+        Ok(sites
+            .into_iter()
+            .zip(kinds)
+            .map(|(p, k)| {
+                let s = species[k];
+                let sd = s.mass.recip().sqrt();
+                let velocity = DVec3::new(
+                    rng.sample::<f64, _>(StandardNormal),
+                    rng.sample::<f64, _>(StandardNormal),
+                    rng.sample::<f64, _>(StandardNormal),
+                ) * sd;
+                (s.mass, SceneObject::ball(s.diameter / 2.0, p, velocity))
+            })
+            .collect())
     }
 }
 
@@ -398,6 +514,62 @@ mod tests {
     }
 
     #[test]
+    fn dense_starts_are_apart_through_periodic_faces_and_inside_walls() {
+        for (periodic, ratio, packing, n) in [
+            (true, 1.0, 0.55, 500),
+            (true, 0.8, 0.5, 864),
+            (false, 1.0, 0.45, 4000),
+            (true, 1.0, 0.3, 400),
+        ] {
+            let h = HardSpheres {
+                n,
+                packing,
+                periodic,
+                ..HardSpheres::mixture(n, ratio)
+            };
+            let scene = h.build().unwrap();
+            assert_eq!(scene.objects.len(), n);
+            assert_eq!(
+                (scene.periodic.is_some(), scene.walls.is_none()),
+                (periodic, periodic)
+            );
+            let side = h.side();
+            let balls: Vec<(DVec3, f64)> = scene
+                .objects
+                .iter()
+                .map(|o| (o.position, kinetic_collide::scene::outer_radius(&o.shape)))
+                .collect();
+            let filled: f64 = balls.iter().map(|b| 4.0 / 3.0 * PI * b.1.powi(3)).sum();
+            assert!((filled / side.powi(3) - packing).abs() < 1e-9);
+            for (i, &(p, r)) in balls.iter().enumerate() {
+                if periodic {
+                    assert!((0..3).all(|k| p[k] >= 0.0 && p[k] <= side));
+                } else {
+                    assert!((0..3).all(|k| p[k] >= r && p[k] <= side - r));
+                }
+                for &(q, s) in &balls[i + 1..] {
+                    let mut d = p - q;
+                    if periodic {
+                        d -= (d / side).round() * side;
+                    }
+                    assert!(
+                        d.length() >= (r + s) * (1.0 - 1e-12),
+                        "overlap at {packing}"
+                    );
+                }
+            }
+        }
+        // Too dense for a lattice inside walls with few spheres, or beyond the range.
+        let e = HardSpheres {
+            packing: 0.55,
+            ..HardSpheres::gas(4)
+        }
+        .build()
+        .unwrap_err();
+        assert!(e.to_string().contains("lattice"), "{e}");
+    }
+
+    #[test]
     fn bad_parameters_are_named() {
         let e = HardSpheres {
             ratio: 0.0,
@@ -407,7 +579,7 @@ mod tests {
         .unwrap_err();
         assert!(e.to_string().starts_with("ratio:"), "{e}");
         let e = HardSpheres {
-            packing: 0.5,
+            packing: 0.6,
             ..HardSpheres::gas(10)
         }
         .build()

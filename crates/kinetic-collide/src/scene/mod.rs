@@ -9,7 +9,7 @@ mod write;
 pub use range::MAX_REACH;
 
 use glam::{DQuat, DVec3};
-use kinetic_core::{FlightPlan, Response, Walls, WorldKind};
+use kinetic_core::{FlightPlan, PeriodicBox, Response, Walls, WorldKind};
 
 /// The shape of a scene object.
 #[derive(Clone, Debug, PartialEq)]
@@ -81,7 +81,8 @@ impl SceneObject {
     }
 }
 
-/// A scene: a world, a horizon, a response, optional walls and the objects.
+/// A scene: a world, a horizon, a response, optional walls or a periodic box, and the
+/// objects.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
     /// Free flight or rolling on a plane.
@@ -92,6 +93,8 @@ pub struct Scene {
     pub response: Response,
     /// The box that holds the scene, if any.
     pub walls: Option<Walls>,
+    /// The box whose faces wrap around (elastic balls moving linearly), if any.
+    pub periodic: Option<PeriodicBox>,
     /// The objects; object `i` is named by its index.
     pub objects: Vec<SceneObject>,
 }

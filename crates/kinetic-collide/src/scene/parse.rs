@@ -3,7 +3,7 @@
 
 use super::{Result, Scene, SceneError, SceneObject, ShapeSpec};
 use glam::{DQuat, DVec3};
-use kinetic_core::{Response, Walls, WorldKind};
+use kinetic_core::{PeriodicBox, Response, Walls, WorldKind};
 use serde::de::{DeserializeSeed, Deserializer as _, IgnoredAny, MapAccess, SeqAccess, Visitor};
 use serde_json::{Map, Value};
 use std::fmt;
@@ -30,7 +30,9 @@ impl Scene {
         only_keys(
             &top,
             "",
-            &["world", "horizon", "response", "walls", "objects"],
+            &[
+                "world", "horizon", "response", "walls", "periodic", "objects",
+            ],
         )?;
         let world = match string(required(&top, "", "world")?, "world")? {
             "free" => WorldKind::Free,
@@ -66,6 +68,10 @@ impl Scene {
             .get("walls")
             .map(|v| parse_walls(v, world))
             .transpose()?;
+        let periodic = top
+            .get("periodic")
+            .map(|v| parse_periodic(v, world, response, walls.is_some()))
+            .transpose()?;
         let objects = match objects {
             None => return Err(SceneError::new("objects", "missing required field")),
             Some(Objects::NotArray) => return Err(SceneError::new("objects", "must be an array")),
@@ -74,12 +80,16 @@ impl Scene {
         };
         for (i, obj) in objects.iter().enumerate() {
             check_object(obj, i, world, response, walls.as_ref())?;
+            if let Some(p) = &periodic {
+                check_periodic_object(obj, i, p)?;
+            }
         }
         let scene = Scene {
             world,
             horizon,
             response,
             walls,
+            periodic,
             objects,
         };
         scene.check_range()?;
@@ -448,6 +458,63 @@ fn is_flat(points: &[DVec3]) -> bool {
         .map(|p| (*p - p0).dot(n).abs())
         .fold(0.0, f64::max);
     volume <= 1e-12 * scale * scale * scale
+}
+
+fn parse_periodic(
+    v: &Value,
+    world: WorldKind,
+    response: Response,
+    walls: bool,
+) -> Result<PeriodicBox> {
+    let m = object(v, "periodic")?;
+    only_keys(m, "periodic", &["min", "max"])?;
+    let min = vec3(required(m, "periodic", "min")?, "periodic.min")?;
+    let max = vec3(required(m, "periodic", "max")?, "periodic.max")?;
+    for k in 0..3 {
+        if max[k] <= min[k] {
+            return Err(SceneError::new(
+                format!("periodic.max[{k}]"),
+                format!(
+                    "must be greater than periodic.min[{k}] ({} <= {})",
+                    max[k], min[k]
+                ),
+            ));
+        }
+    }
+    let why = if world != WorldKind::Free {
+        Some("applies to \"free\" worlds only")
+    } else if response != Response::Elastic {
+        Some("needs the \"elastic\" response (balls that bounce off each other)")
+    } else if walls {
+        Some("cannot be combined with walls")
+    } else {
+        None
+    };
+    match why {
+        Some(why) => Err(SceneError::new("periodic", why)),
+        None => Ok(PeriodicBox { min, max }),
+    }
+}
+
+/// In a periodic box: a ball moving linearly, its centre inside the box.
+fn check_periodic_object(o: &SceneObject, i: usize, p: &PeriodicBox) -> Result<()> {
+    let path = format!("objects[{i}]");
+    if o.acceleration != DVec3::ZERO {
+        return Err(SceneError::new(
+            format!("{path}.acceleration"),
+            "balls in a periodic box move linearly (no acceleration)",
+        ));
+    }
+    for k in 0..3 {
+        let c = o.position[k];
+        if c < p.min[k] || c > p.max[k] {
+            return Err(SceneError::new(
+                format!("{path}.position[{k}]"),
+                "the centre starts outside the periodic box",
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn check_object(

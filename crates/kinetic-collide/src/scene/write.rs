@@ -61,6 +61,12 @@ impl Scene {
                 serde_json::json!({"min": v3(w.min), "max": v3(w.max)}),
             );
         }
+        if let Some(p) = self.periodic {
+            top.insert(
+                "periodic".into(),
+                serde_json::json!({"min": v3(p.min), "max": v3(p.max)}),
+            );
+        }
         top.insert("objects".into(), Value::Array(objects));
         let mut text = serde_json::to_string_pretty(&Value::Object(top)).unwrap_or_default();
         text.push('\n');

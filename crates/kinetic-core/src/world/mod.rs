@@ -6,6 +6,7 @@
 
 pub(crate) mod cells;
 mod pairs;
+pub(crate) mod periodic;
 pub(crate) mod step;
 mod validate;
 mod walls;
@@ -18,6 +19,7 @@ use crate::queue::EventQueue;
 use crate::structure::{CandidateStructure, PairChange};
 pub use cells::ElasticCells;
 pub use pairs::PairCertificate;
+pub use periodic::{Bulk, PeriodicBox, PeriodicSpheres};
 use std::collections::BTreeMap;
 
 /// Where objects move.

@@ -1,0 +1,293 @@
+//! Building the simulation: checking the box and the spheres, ordering spheres along a
+//! Z-curve of cells, listing neighbours and predicting every sphere's first event.
+
+use super::calendar::Calendar;
+use super::lists::{CentreGrid, Filed, Lists};
+use super::{Motion, Neighbour, Next, PeriodicBox, PeriodicSpheres, SHELL, SLACK};
+use crate::math::{Real, Vec3};
+use crate::plan::FlightPlan;
+use crate::world::step::ZenoGuard;
+use crate::world::{MAX_MAGNITUDE, Stats, WorldError};
+use rustc_hash::FxHashMap;
+
+/// Interleaves the low 21 bits of three cell coordinates (a Z-curve key).
+fn z_key(c: [u32; 3]) -> u64 {
+    let spread = |x: u32| {
+        let mut x = u64::from(x) & 0x1f_ffff;
+        x = (x | x << 32) & 0x1f_0000_0000_ffff;
+        x = (x | x << 16) & 0x1f_0000_ff00_00ff;
+        x = (x | x << 8) & 0x100f_00f0_0f00_f00f;
+        x = (x | x << 4) & 0x10c3_0c30_c30c_30c3;
+        (x | x << 2) & 0x1249_2492_4924_9249
+    };
+    spread(c[0]) | spread(c[1]) << 1 | spread(c[2]) << 2
+}
+
+/// Rounds each coordinate to the nearest integer (ties to even) for magnitudes below 2^51,
+/// without a library call.
+#[inline]
+fn round(v: Vec3) -> Vec3 {
+    const MAGIC: Real = 6_755_399_441_055_744.0; // 1.5 * 2^52
+    (v + MAGIC) - MAGIC
+}
+
+fn invalid(what: String) -> WorldError {
+    WorldError::InvalidShape(what)
+}
+
+impl PeriodicSpheres {
+    /// The shell factor for a box of `side` and a largest radius `r_max`: [`SHELL`], or less
+    /// where the box is small, so that it is three list reaches wide; `None` when the box is
+    /// too small even for a thin shell.
+    fn shell_factor(side: Vec3, r_max: Real) -> Option<Real> {
+        let fit = side.min_element() / (3.0 * 2.0 * r_max * (1.0 + 1e-6));
+        let shell = SHELL.min(fit);
+        (shell >= 1.01).then_some(shell)
+    }
+
+    /// Elastic spheres `(radius, plan)` in the periodic box `cell`: the sphere with index `i`
+    /// gets id `i`. Plans must be linear (no acceleration), start inside the box, and the
+    /// box must be at least about 3.1 largest diameters wide along each axis.
+    pub fn new(cell: PeriodicBox, spheres: &[(Real, FlightPlan)]) -> Result<Self, WorldError> {
+        let side = cell.max - cell.min;
+        if !(side.is_finite() && side.min_element() > 0.0) || side.max_element() > MAX_MAGNITUDE {
+            return Err(invalid(format!(
+                "periodic box: max {:?} must be above min {:?}, both finite",
+                cell.max, cell.min
+            )));
+        }
+        if spheres.len() >= (1 << 31) {
+            return Err(invalid("periodic box: at most 2^31 spheres".into()));
+        }
+        let mut r_max: Real = 0.0;
+        for (i, (r, plan)) in spheres.iter().enumerate() {
+            if !(r.is_finite() && *r > 0.0) {
+                return Err(invalid(format!("object {i}: radius {r} must be positive")));
+            }
+            if !plan.is_finite() || plan.acceleration != Vec3::ZERO {
+                return Err(invalid(format!(
+                    "object {i}: a periodic box takes spheres moving linearly (finite, no acceleration)"
+                )));
+            }
+            let p = plan.position_at(0.0);
+            if !(p.cmpge(cell.min).all() && p.cmple(cell.max).all()) {
+                return Err(invalid(format!(
+                    "object {i}: centre {p:?} is outside the periodic box"
+                )));
+            }
+            r_max = r_max.max(*r);
+        }
+        let shell = if spheres.is_empty() {
+            SHELL
+        } else {
+            Self::shell_factor(side, r_max).ok_or_else(|| {
+                invalid(format!(
+                    "periodic box: each side must be at least {:.4} (3.03 largest diameters), got {side:?}",
+                    6.06 * r_max
+                ))
+            })?
+        };
+        let n = spheres.len();
+        let reach = shell * 2.0 * r_max * (1.0 + SLACK);
+        let mut grid = CentreGrid::new(n, cell.min, side, reach.max(Real::MIN_POSITIVE));
+        // Memory order: by Z-curve of the starting cell, so neighbours sit close.
+        let mut order: Vec<(u64, u32)> = spheres
+            .iter()
+            .enumerate()
+            .map(|(i, (_, p))| (z_key(grid.cell(p.position_at(0.0))), i as u32))
+            .collect();
+        order.sort_unstable();
+        let ext: Vec<u32> = order.iter().map(|&(_, i)| i).collect();
+        let motion: Vec<Motion> = ext
+            .iter()
+            .map(|&e| {
+                let (r, p) = &spheres[e as usize];
+                Motion {
+                    t0: p.t0,
+                    position: p.position,
+                    velocity: p.velocity,
+                    radius: *r,
+                }
+            })
+            .collect();
+        let two_kinetic = motion
+            .iter()
+            .map(|m| (2.0 * m.radius).powi(3) * m.velocity.length_squared())
+            .sum();
+        let centre: Vec<Vec3> = motion.iter().map(|m| m.at(0.0)).collect();
+        for (i, c) in centre.iter().enumerate() {
+            grid.insert(i as u32, *c, motion[i].radius);
+        }
+        let shell_radius = motion
+            .iter()
+            .map(|m| (shell - 1.0) * m.radius * (1.0 - SLACK))
+            .collect();
+        let mut gas = PeriodicSpheres {
+            now: 0.0,
+            side,
+            inv_side: Vec3::ONE / side,
+            ext,
+            motion,
+            counter: vec![0; n],
+            next: vec![Next::IDLE; n],
+            centre,
+            shell: shell_radius,
+            lists: Lists::new(n, 16),
+            grid,
+            queue: Calendar::new(n, 1.0, 1, 0.0),
+            skips: FxHashMap::default(),
+            events: Vec::new(),
+            stats: Stats::default(),
+            collisions: 0,
+            virial: 0.0,
+            two_kinetic,
+            start: 0.0,
+            zeno: ZenoGuard::default(),
+            list_factor: shell * (1.0 + SLACK),
+            event_counts: [0; 4],
+            buffer: Vec::new(),
+        };
+        gas.list_all()?;
+        // The first events, then a calendar whose buckets hold a few dozen events each.
+        let mut sum = 0.0;
+        let mut finite = 0usize;
+        for id in 0..n as u32 {
+            gas.predict(id);
+            let t = gas.next[id as usize].time;
+            if t.is_finite() {
+                sum += t;
+                finite += 1;
+            }
+        }
+        let mean = if finite > 0 {
+            sum / finite as Real
+        } else {
+            1.0
+        };
+        let width = 32.0 * mean / n.max(1) as Real;
+        let buckets = (8.0 * mean / width).ceil().clamp(1.0, 1e7) as usize;
+        let mut queue = Calendar::new(n, width, buckets, 0.0);
+        for (id, next) in gas.next.iter().enumerate() {
+            if next.time.is_finite() {
+                queue.schedule(id as u32, next.time, next.tie);
+            }
+        }
+        gas.queue = queue;
+        Ok(gas)
+    }
+
+    /// Lists every pair whose centres are within the list reach.
+    fn list_all(&mut self) -> Result<(), WorldError> {
+        let mut around = std::mem::take(&mut self.buffer);
+        for i in 0..self.len() as u32 {
+            around.clear();
+            let me = self.filed(i);
+            self.grid.around(self.grid.cell(me.centre), &mut around);
+            for other in &around {
+                if other.id > i {
+                    self.list_pair(&me, other)?;
+                }
+            }
+        }
+        self.buffer = around;
+        Ok(())
+    }
+
+    fn filed(&self, i: u32) -> Filed {
+        Filed {
+            centre: self.centre[i as usize],
+            radius: self.motion[i as usize].radius,
+            id: i,
+        }
+    }
+
+    /// Lists two spheres with each other if their centres are within the list reach.
+    #[inline]
+    fn list_pair(&mut self, me: &Filed, other: &Filed) -> Result<(), WorldError> {
+        let mut result = Ok(());
+        let (side, inv_side, factor) = (self.side, self.inv_side, self.list_factor);
+        list_if_near(
+            &mut self.lists,
+            side,
+            inv_side,
+            factor,
+            me,
+            other,
+            &mut result,
+        );
+        result.map_err(|()| self.travelled(me.id, other.id))
+    }
+
+    fn travelled(&self, a: u32, b: u32) -> WorldError {
+        invalid(format!(
+            "objects {} and {}: a sphere travelled more than 30,000 box lengths",
+            self.ext[a as usize], self.ext[b as usize]
+        ))
+    }
+
+    /// Sphere `id` reached its shell: it re-centres where it is and lists again.
+    pub(super) fn relist(&mut self, id: u32) -> Result<(), WorldError> {
+        let i = id as usize;
+        for j in 0..self.lists.of(id).len() {
+            let other = self.lists.of(id)[j].id;
+            self.lists.remove(other, id);
+        }
+        self.lists.clear(id);
+        self.centre[i] = self.motion[i].at(self.now);
+        self.grid.remove(id);
+        let me = self.filed(id);
+        let (side, inv_side, factor) = (self.side, self.inv_side, self.list_factor);
+        let lists = &mut self.lists;
+        let mut result = Ok(());
+        let mut far = id;
+        self.grid
+            .for_each_around(self.grid.cell(me.centre), |other| {
+                list_if_near(lists, side, inv_side, factor, &me, other, &mut result);
+                if result.is_err() && far == id {
+                    far = other.id;
+                }
+            });
+        self.grid.insert(id, me.centre, me.radius);
+        result.map_err(|()| self.travelled(id, far))
+    }
+}
+
+/// Lists `me` and `other` with each other if their centres are within `factor` times their
+/// sum of radii (nearest image); an image shift too large to hold sets `result` to an error.
+#[inline]
+fn list_if_near(
+    lists: &mut Lists,
+    side: Vec3,
+    inv_side: Vec3,
+    factor: Real,
+    me: &Filed,
+    other: &Filed,
+    result: &mut Result<(), ()>,
+) {
+    let d = me.centre - other.centre;
+    let s = round(d * inv_side);
+    let d = d - s * side;
+    let reach = (me.radius + other.radius) * factor;
+    if d.length_squared() < reach * reach {
+        if s.abs().max_element() > i16::MAX as Real - 1.0 {
+            *result = Err(());
+            return;
+        }
+        let shift = [s.x as i16, s.y as i16, s.z as i16];
+        lists.push(
+            me.id,
+            Neighbour {
+                id: other.id,
+                shift,
+            },
+        );
+        let back = [-shift[0], -shift[1], -shift[2]];
+        lists.push(
+            other.id,
+            Neighbour {
+                id: me.id,
+                shift: back,
+            },
+        );
+    }
+}

@@ -1,0 +1,127 @@
+//! Processing events: collisions (the elastic exchange through the pair's image), stale
+//! events, shell crossings.
+
+use super::{Kind, Motion, Next, PeriodicSpheres};
+use crate::math::{Real, Vec3};
+use crate::world::{ContactEvent, ContactKind, ObjectId, WorldError};
+
+/// Event kinds by index in `event_counts`, as the statistics name them.
+pub(super) const EVENT_NAMES: [&str; 4] = ["collision", "stale", "shell", "graze"];
+
+/// The elastic exchange of two spheres touching at `now` through the image `shift`: their new
+/// velocities and the virial term `r_ab . dp_a` (mass `(2 r)^3`), or `None` when they are not
+/// approaching. With no shift, the world's exchange, bit for bit.
+#[inline]
+pub(super) fn exchange(
+    ma: &Motion,
+    mb: &Motion,
+    shift: Vec3,
+    now: Real,
+) -> Option<(Vec3, Vec3, Real)> {
+    let n = (ma.at(now) - mb.at(now)) - shift;
+    let len = n.length();
+    if len == 0.0 || !len.is_finite() {
+        return None;
+    }
+    let n = n / len;
+    let (va, vb) = (ma.velocity, mb.velocity);
+    let u = (va - vb).dot(n);
+    if u >= 0.0 {
+        return None;
+    }
+    let (ra, rb) = (ma.radius, mb.radius);
+    let (wa_m, wb_m) = (ra * ra * ra, rb * rb * rb);
+    // Written with mass ratios so that radii 1e-6 next to 1e6 do not overflow.
+    let (wa, wb) = (2.0 / (1.0 + wa_m / wb_m), 2.0 / (1.0 + wb_m / wa_m));
+    let mass_a = (2.0 * ra).powi(3);
+    Some((va - n * (wa * u), vb + n * (wb * u), -mass_a * wa * u * len))
+}
+
+impl PeriodicSpheres {
+    /// Processes the next event if it is due by `until`; returns whether one was.
+    pub fn step(&mut self, until: Real) -> Result<bool, WorldError> {
+        let Some((id, time)) = self.queue.peek() else {
+            return Ok(false);
+        };
+        if time > until || time.is_nan() {
+            return Ok(false);
+        }
+        if time > self.now {
+            self.now = time;
+        }
+        let i = id as usize;
+        let next = std::mem::replace(&mut self.next[i], Next::IDLE);
+        let mut partner = id;
+        match next.kind {
+            Kind::Idle => {
+                self.queue.remove(id);
+                self.event_counts[1] += 1;
+            }
+            Kind::Pair => {
+                partner = next.other;
+                if self.counter[next.other as usize] != next.counter {
+                    self.event_counts[1] += 1;
+                    self.predict(id);
+                } else {
+                    self.fire(id, next.other, next.shift, next.graze);
+                }
+            }
+            Kind::Shell => {
+                self.event_counts[2] += 1;
+                self.relist(id)?;
+                self.predict(id);
+            }
+        }
+        self.stats.samples += 1;
+        let c = self.lists.total() / 2 + self.len();
+        self.stats.certificates_sum += c as f64;
+        self.stats.certificates_max = self.stats.certificates_max.max(c);
+        let (a, b) = (self.ext[i], self.ext[partner as usize]);
+        self.zeno.count(self.now, self.len(), a, b)?;
+        Ok(true)
+    }
+
+    /// A pair certificate fails: report the contact and respond. Spheres whose plans do not
+    /// change (a graze, or spheres that are not approaching) skip that event of the pair.
+    fn fire(&mut self, a: u32, b: u32, shift: [i16; 3], graze: bool) {
+        let (ea, eb) = (self.ext[a as usize], self.ext[b as usize]);
+        self.stats.begins += 1;
+        self.events.push(ContactEvent {
+            time: self.now,
+            a: ObjectId(ea.min(eb)),
+            b: ObjectId(ea.max(eb)),
+            kind: ContactKind::Begin,
+        });
+        let (ma, mb) = (self.motion[a as usize], self.motion[b as usize]);
+        let now = self.now;
+        if !graze && let Some((va, vb, virial)) = exchange(&ma, &mb, self.shift_of(shift), now) {
+            self.event_counts[0] += 1;
+            self.collisions += 1;
+            self.virial += virial;
+            self.replan(a, va);
+            self.replan(b, vb);
+            self.predict(a);
+            self.predict(b);
+            return;
+        }
+        self.event_counts[3] += 1;
+        let (ca, cb) = (self.counter[a as usize], self.counter[b as usize]);
+        self.skips.entry(a).or_default().push((b, cb, now));
+        self.skips.entry(b).or_default().push((a, ca, now));
+        self.predict(a);
+        self.predict(b);
+    }
+
+    /// Sphere `id` moves on from now at `velocity`: its old predictions are stale.
+    fn replan(&mut self, id: u32, velocity: Vec3) {
+        let i = id as usize;
+        let m = &mut self.motion[i];
+        m.position = m.at(self.now);
+        m.t0 = self.now;
+        m.velocity = velocity;
+        self.counter[i] = self.counter[i].wrapping_add(1);
+        if !self.skips.is_empty() {
+            self.skips.remove(&id);
+        }
+    }
+}

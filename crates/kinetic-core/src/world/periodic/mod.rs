@@ -1,0 +1,286 @@
+//! `periodic`: elastic spheres in a periodic box, the bulk fluids of hard-sphere event-driven
+//! molecular dynamics, with neighbour lists and one scheduled event per sphere.
+//!
+//! The certificates are the world's: a disjointness certificate per pair of listed spheres
+//! (the same gap polynomial and root formula, so a pair whose image does not wrap fails at the
+//! world's time, bit for bit), and a shell certificate per sphere that says its list still
+//! holds every sphere it could touch.
+//!
+//! - **Images.** Positions are never wrapped: a sphere's plan is the world's plan. A listed
+//!   pair carries the integer shift `s` of the image it meets, and its gap is that of
+//!   `(x_a - x_b) - s L`. The box must be at least three list reaches wide, so a sphere meets
+//!   at most one image of another.
+//! - **Neighbour lists with a shell.** Each sphere has a list centre (its position when the
+//!   list was made) and lists the spheres whose centres were within `SHELL (r_a + r_b)` of it.
+//!   While each sphere stays within `(SHELL - 1) r` of its centre, an unlisted pair cannot
+//!   touch; a sphere that reaches its shell re-centres and lists again from a cell grid of
+//!   centres. Lists are symmetric: re-listing one sphere updates its neighbours' lists.
+//! - **One event per sphere**, the earliest of its shell crossing and its listed pairs,
+//!   predicted against the partners' current plans and tagged with the partner's plan
+//!   number. A pair is always covered by the sphere that predicted it last: that sphere's
+//!   event is not later than the pair's failure. An event whose partner has changed plan
+//!   since is stale and only makes its sphere predict again.
+//! - **Lazy positions**: a sphere's state changes only at its own events.
+//!
+//! Statistics add the collision virial, from which the run's pressure follows.
+
+mod build;
+mod calendar;
+mod event;
+mod lists;
+mod predict;
+mod validate;
+
+use super::step::ZenoGuard;
+use super::{ContactEvent, Stats};
+use crate::math::{Real, Vec3};
+use calendar::Calendar;
+use rustc_hash::FxHashMap;
+
+/// A sphere lists the spheres within this many times the sum of radii.
+const SHELL: Real = 1.5;
+/// Reaches used to list pairs are this much (relative) wider, and shells this much narrower,
+/// than the geometry needs: rounding at a shell crossing cannot hide a pair.
+const SLACK: Real = 1e-9;
+/// No sphere.
+const NIL: u32 = u32::MAX;
+/// The tie-break of shell crossings: after every pair event at the same time.
+const TIE_SHELL: u64 = u64::MAX;
+
+/// An axis-aligned periodic box: space repeats with period `max - min` along each axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PeriodicBox {
+    /// The lower corner.
+    pub min: Vec3,
+    /// The upper corner.
+    pub max: Vec3,
+}
+
+/// What a sphere's scheduled event is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Kind {
+    /// Nothing scheduled.
+    Idle,
+    /// A pair certificate fails: a collision, or a graze.
+    Pair,
+    /// The sphere reaches its shell.
+    Shell,
+}
+
+/// A sphere's next event: time, queue tie-break, and for a pair the partner, the partner's
+/// plan number when it was predicted, and the image shift.
+#[derive(Clone, Copy, Debug)]
+struct Next {
+    time: Real,
+    tie: u64,
+    other: u32,
+    counter: u32,
+    shift: [i16; 3],
+    kind: Kind,
+    graze: bool,
+}
+
+impl Next {
+    const IDLE: Next = Next {
+        time: Real::INFINITY,
+        tie: u64::MAX,
+        other: NIL,
+        counter: 0,
+        shift: [0; 3],
+        kind: Kind::Idle,
+        graze: false,
+    };
+}
+
+/// A sphere's linear motion and radius in one cache line, read for every listed pair.
+#[derive(Clone, Copy, Debug)]
+#[repr(align(64))]
+struct Motion {
+    t0: Real,
+    position: Vec3,
+    velocity: Vec3,
+    radius: Real,
+}
+
+impl Motion {
+    #[inline]
+    fn at(&self, t: Real) -> Vec3 {
+        self.position + self.velocity * (t - self.t0)
+    }
+}
+
+/// A neighbour: the sphere, and the image shift `s` of the pair (`x_me - x_it - s L`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Neighbour {
+    id: u32,
+    shift: [i16; 3],
+}
+
+/// Elastic spheres in a periodic box: the whole simulation of a bulk hard-sphere fluid, with
+/// the world's events and statistics.
+///
+/// ```
+/// # use kinetic_core::{PeriodicBox, PeriodicSpheres, FlightPlan, Vec3};
+/// let cell = PeriodicBox { min: Vec3::ZERO, max: Vec3::splat(10.0) };
+/// let spheres = [
+///     (0.5, FlightPlan::linear(Vec3::new(1.0, 5.0, 5.0), Vec3::new(-1.0, 0.0, 0.0))),
+///     (0.5, FlightPlan::at_rest(Vec3::new(8.0, 5.0, 5.0))),
+/// ];
+/// let mut gas = PeriodicSpheres::new(cell, &spheres).unwrap();
+/// gas.advance_to(5.0).unwrap();
+/// let events = gas.drain_events();
+/// // The first sphere leaves through x = 0 and meets the second's image at t = 2.
+/// assert_eq!(events[0].time, 2.0);
+/// ```
+#[derive(Debug)]
+pub struct PeriodicSpheres {
+    now: Real,
+    side: Vec3,
+    inv_side: Vec3,
+    /// Spheres are numbered internally in memory order (cell by cell): `ext` gives each
+    /// one's own id.
+    ext: Vec<u32>,
+    motion: Vec<Motion>,
+    /// Plan numbers: bumped whenever a sphere's plan changes.
+    counter: Vec<u32>,
+    next: Vec<Next>,
+    /// List centres, and the sphere's distance from it at which the list must be remade.
+    centre: Vec<Vec3>,
+    shell: Vec<Real>,
+    lists: lists::Lists,
+    grid: lists::CentreGrid,
+    queue: Calendar,
+    /// Pair events consumed without a change of plans (grazes): `(other, its counter, time)`.
+    skips: FxHashMap<u32, Vec<(u32, u32, Real)>>,
+    events: Vec<ContactEvent>,
+    stats: Stats,
+    /// Collisions, and the sum over them of `r_ab . dp_a` (contact vector times impulse, mass
+    /// `(2 r)^3`): the collision virial.
+    collisions: u64,
+    virial: Real,
+    /// Twice the kinetic energy, `sum m v^2` (constant: collisions are elastic).
+    two_kinetic: Real,
+    /// Time from which the bulk figures are taken.
+    start: Real,
+    zeno: ZenoGuard,
+    /// A pair is listed when its centres are within this many times its sum of radii.
+    list_factor: Real,
+    /// Events processed: collisions, stale events, shell crossings, grazes.
+    event_counts: [u64; 4],
+    /// A buffer for the spheres around a cell.
+    buffer: Vec<lists::Filed>,
+}
+
+/// Bulk figures of a periodic run: collision rate, temperature and pressure.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bulk {
+    /// Collisions per sphere per unit time.
+    pub collision_rate: Real,
+    /// `kT`: twice the kinetic energy per sphere over three (mass `(2 r)^3`).
+    pub temperature: Real,
+    /// Pressure from the collision virial: `(N kT + W / (3 t)) / V`.
+    pub pressure: Real,
+    /// `P V / (N kT)`.
+    pub compressibility: Real,
+    /// Fraction of the box the spheres fill.
+    pub packing: Real,
+}
+
+impl PeriodicSpheres {
+    /// The current time.
+    pub fn now(&self) -> Real {
+        self.now
+    }
+
+    /// Number of spheres.
+    pub fn len(&self) -> usize {
+        self.ext.len()
+    }
+
+    /// Whether there are no spheres.
+    pub fn is_empty(&self) -> bool {
+        self.ext.is_empty()
+    }
+
+    /// The run's statistics so far.
+    pub fn stats(&self) -> Stats {
+        let mut stats = self.stats.clone();
+        for (name, &count) in event::EVENT_NAMES.iter().zip(&self.event_counts) {
+            if count > 0 {
+                stats.events_by_kind.insert(name, count);
+            }
+        }
+        stats
+    }
+
+    /// Starts the bulk figures afresh from now (after the system has equilibrated).
+    pub fn reset_bulk(&mut self) {
+        self.start = self.now;
+        self.collisions = 0;
+        self.virial = 0.0;
+    }
+
+    /// Takes the contact events found so far.
+    pub fn drain_events(&mut self) -> Vec<ContactEvent> {
+        std::mem::take(&mut self.events)
+    }
+
+    /// The time of the next event, or infinity.
+    pub fn next_event_time(&self) -> Real {
+        self.queue.next_time()
+    }
+
+    /// Collision rate, temperature and pressure over the run so far.
+    pub fn bulk(&self) -> Bulk {
+        let n = self.len().max(1) as Real;
+        let volume = self.side.x * self.side.y * self.side.z;
+        let elapsed = self.now - self.start;
+        let kt = self.two_kinetic / (3.0 * n);
+        let per_time = if elapsed > 0.0 { 1.0 / elapsed } else { 0.0 };
+        let pressure = (n * kt + self.virial * per_time / 3.0) / volume;
+        let filled: Real = self
+            .motion
+            .iter()
+            .map(|m| 4.0 / 3.0 * std::f64::consts::PI * m.radius.powi(3))
+            .sum();
+        Bulk {
+            collision_rate: 2.0 * self.collisions as Real * per_time / n,
+            temperature: kt,
+            pressure,
+            compressibility: if kt > 0.0 {
+                pressure * volume / (n * kt)
+            } else {
+                1.0
+            },
+            packing: filled / volume,
+        }
+    }
+
+    /// The structure's own counters: neighbours listed, list capacity.
+    pub fn counters(&self) -> Vec<(&'static str, f64)> {
+        let n = self.len().max(1) as Real;
+        vec![
+            ("neighbours_per_sphere", self.lists.total() as f64 / n),
+            ("list_capacity", self.lists.stride() as f64),
+            ("cells", self.grid.cells() as f64),
+        ]
+    }
+
+    /// The centre of sphere `id` (its own id) at the current time, unwrapped.
+    pub fn position(&self, id: u32) -> Option<Vec3> {
+        let i = self.ext.iter().position(|&e| e == id)?;
+        Some(self.motion[i].at(self.now))
+    }
+
+    /// Advances to `time`, processing every event up to it.
+    pub fn advance_to(&mut self, time: Real) -> Result<(), super::WorldError> {
+        while self.step(time)? {}
+        if time > self.now {
+            self.now = time;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,244 @@
+//! Predicting a sphere's next event: its listed pairs (closed forms, or the world's root
+//! walk) and its shell crossing, the earliest of which is scheduled.
+
+use super::{Kind, Motion, Next, PeriodicSpheres, TIE_SHELL};
+use crate::certificates::ball_ball_gap;
+use crate::math::{Real, Vec3};
+use crate::pair_key::pair_key;
+use crate::roots::quadratic_roots;
+use crate::world::Response;
+use crate::world::pairs::{Due, Walk};
+
+/// The next failure of the disjointness certificate of spheres `a` and `b` met through the
+/// image `shift` (`(x_a - x_b) - shift`), after `now`: its time, and whether it is a graze.
+///
+/// The gap is taken around the later of the two plans' starts, as the world takes it, so a
+/// pair with no shift fails at the world's time, bit for bit. `skip` is a time up to which
+/// the pair's events were consumed without a change of plans (after a graze). With `bound`
+/// finite, a failure that clearly comes after `bound` may be reported as none.
+#[inline]
+pub(super) fn pair_due(
+    ma: &Motion,
+    mb: &Motion,
+    shift: Vec3,
+    now: Real,
+    skip: Option<Real>,
+    bound: Real,
+) -> Option<(Real, bool)> {
+    let base = ma.t0.max(mb.t0).min(now);
+    let reach = ma.radius + mb.radius;
+    let threshold2 = reach * reach;
+    let db = (ma.at(base) - mb.at(base)) - shift;
+    let c0 = db.dot(db) - threshold2;
+    let v = ma.velocity - mb.velocity;
+    let c1 = 2.0 * db.dot(v);
+    if c0 <= 0.0 && c1 > 0.0 && base == now {
+        // In contact now (just met, within rounding) and moving apart: the gap only grows.
+        return None;
+    }
+    if c0 > 0.0 {
+        let gap_now = if base == now {
+            c0
+        } else {
+            let d = (ma.at(now) - mb.at(now)) - shift;
+            d.dot(d) - threshold2
+        };
+        if gap_now > 0.0 {
+            if c1 >= 0.0 {
+                return None;
+            }
+            // The first root is at least c0 / -c1 after base: a pair that clearly fails after
+            // the bound cannot be the sphere's next event.
+            let ahead = bound - base;
+            if ahead.is_finite() && c0 > -c1 * (ahead * (1.0 + 1e-9) + bound.abs() * 1e-15) {
+                return None;
+            }
+            let c2 = v.dot(v);
+            let (p, q) = (4.0 * c2 * c0, c1 * c1);
+            if p - q > 1e-6 * (p + q) {
+                return None;
+            }
+            // A clear first contact: two roots ahead, the first taken directly, as the walk
+            // (and `quadratic_roots`, whose arithmetic this is) would report it, unless the
+            // pair has events consumed (a graze) or the root is not clearly after now. With
+            // c0 > 0 > c1 and distinct roots, the first is c0 / q.
+            if q - p > 1e-6 * (p + q) && skip.is_none() {
+                let disc = q - p;
+                let half = -0.5 * (c1 - disc.sqrt());
+                let first = c0 / half;
+                if first > 0.0 && first.is_finite() && half < c2 * Real::MAX && base + first > now {
+                    debug_assert_eq!(first, {
+                        let mut roots = [(0.0, false); 4];
+                        quadratic_roots(c0, c1, c2, &mut roots);
+                        roots[0].0
+                    });
+                    return Some((base + first, false));
+                }
+            }
+        }
+    }
+    walk_due(ma, mb, shift, threshold2, base, now, skip)
+}
+
+/// The pair's next failure by the world's root walk (contact now, grazes, consumed events).
+#[cold]
+fn walk_due(
+    ma: &Motion,
+    mb: &Motion,
+    shift: Vec3,
+    threshold2: Real,
+    base: Real,
+    now: Real,
+    skip: Option<Real>,
+) -> Option<(Real, bool)> {
+    // The relative motion as the gap of one ball against a ball at rest at the origin: the
+    // same numbers as the world's gap of the two plans when the shift is zero.
+    let gap = |t: Real| {
+        let rel = [
+            (ma.at(t) - mb.at(t)) - shift,
+            ma.velocity - mb.velocity,
+            Vec3::ZERO,
+        ];
+        ball_ball_gap(&rel, &[Vec3::ZERO; 3], threshold2)
+    };
+    let fb = gap(base);
+    let f = if base == now { fb } else { gap(now) };
+    let mut walk = Walk::elastic(&fb, base, now, &f);
+    if let Some(until) = skip {
+        while walk.due.is_some_and(|(t, _, _)| t <= until) {
+            walk.consume(Response::Elastic);
+        }
+    }
+    walk.due.map(|(t, _, due)| (t, due == Due::Graze))
+}
+
+/// How long until a sphere at `position` moving at `velocity` is `radius` from `centre`.
+#[inline]
+fn shell_exit(position: Vec3, velocity: Vec3, centre: Vec3, radius: Real) -> Real {
+    let d = position - centre;
+    let a = velocity.dot(velocity);
+    if a == 0.0 {
+        return Real::INFINITY;
+    }
+    let c = d.dot(d) - radius * radius;
+    if c >= 0.0 {
+        return 0.0;
+    }
+    let b = d.dot(velocity);
+    let disc = b * b - a * c;
+    // c < 0: one root ahead, written without cancellation.
+    let root = disc.sqrt();
+    if b > 0.0 {
+        -c / (b + root)
+    } else {
+        (root - b) / a
+    }
+    .max(0.0)
+}
+
+impl PeriodicSpheres {
+    /// The shift `s L` of an image.
+    #[inline]
+    pub(super) fn shift_of(&self, s: [i16; 3]) -> Vec3 {
+        Vec3::new(
+            s[0] as Real * self.side.x,
+            s[1] as Real * self.side.y,
+            s[2] as Real * self.side.z,
+        )
+    }
+
+    /// The time up to which the pair's events were consumed, if any.
+    #[inline]
+    pub(super) fn skip_of(&self, a: u32, b: u32) -> Option<Real> {
+        if self.skips.is_empty() {
+            return None;
+        }
+        let c = self.counter[b as usize];
+        self.skips
+            .get(&a)?
+            .iter()
+            .find(|&&(o, oc, _)| o == b && oc == c)
+            .map(|s| s.2)
+    }
+
+    /// Recomputes sphere `id`'s next event from its shell and its listed pairs and schedules
+    /// it.
+    pub(super) fn predict(&mut self, id: u32) {
+        let i = id as usize;
+        let m = self.motion[i];
+        let now = self.now;
+        let exit = shell_exit(m.at(now), m.velocity, self.centre[i], self.shell[i]);
+        let mut best = Next {
+            time: now + exit,
+            tie: TIE_SHELL,
+            kind: Kind::Shell,
+            ..Next::IDLE
+        };
+        let mut best_tie = None;
+        for n in self.lists.of(id) {
+            let mb = &self.motion[n.id as usize];
+            let shift = if n.shift == [0; 3] {
+                Vec3::ZERO
+            } else {
+                self.shift_of(n.shift)
+            };
+            let skip = self.skip_of(id, n.id);
+            let Some((time, graze)) = pair_due(&m, mb, shift, now, skip, best.time) else {
+                continue;
+            };
+            if time > best.time {
+                continue;
+            }
+            if time == best.time {
+                // A tie: the pair with the lower key (own ids) goes first, shells last.
+                let tie = pair_key(self.ext[i], self.ext[n.id as usize]);
+                let held = *best_tie.get_or_insert_with(|| match best.kind {
+                    Kind::Pair => pair_key(self.ext[i], self.ext[best.other as usize]),
+                    _ => TIE_SHELL,
+                });
+                if tie >= held {
+                    continue;
+                }
+                best_tie = Some(tie);
+            } else {
+                best_tie = None;
+            }
+            best = Next {
+                time,
+                other: n.id,
+                shift: n.shift,
+                kind: Kind::Pair,
+                graze,
+                ..best
+            };
+        }
+        if best.kind == Kind::Pair {
+            best.tie = pair_key(self.ext[i], self.ext[best.other as usize]);
+            best.counter = self.counter[best.other as usize];
+        }
+        self.next[i] = best;
+        self.queue.schedule(id, best.time, best.tie);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shell_exit_reaches_the_radius() {
+        let t = shell_exit(Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0), Vec3::ZERO, 1.0);
+        assert_eq!(t, 0.5);
+        let t = shell_exit(
+            Vec3::new(0.5, 0.0, 0.0),
+            Vec3::new(-1.0, 0.0, 0.0),
+            Vec3::ZERO,
+            1.0,
+        );
+        assert_eq!(t, 1.5);
+        assert_eq!(
+            shell_exit(Vec3::ZERO, Vec3::ZERO, Vec3::ZERO, 1.0),
+            Real::INFINITY
+        );
+    }
+}

@@ -1,0 +1,220 @@
+//! The periodic structure against the world's brute force (where no image is in reach) and
+//! against an exhaustive periodic reference (every pair, every nearby image), event by event,
+//! with `validate()` after every event.
+
+use super::event::exchange;
+use super::predict::pair_due;
+use super::*;
+use crate::{BruteForce, ContactKind, FlightPlan, ObjectId, Response, World, WorldKind};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// `n` non-overlapping spheres of radius in `radii` with centres in `[lo, hi]^3`, speeds up to
+/// about `speed`.
+fn random_spheres(
+    seed: u64,
+    n: usize,
+    radii: (Real, Real),
+    lo: Real,
+    hi: Real,
+    speed: Real,
+) -> Vec<(Real, FlightPlan)> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut out: Vec<(Real, FlightPlan)> = Vec::new();
+    while out.len() < n {
+        let r = rng.random_range(radii.0..=radii.1);
+        let p = Vec3::new(
+            rng.random_range(lo..hi),
+            rng.random_range(lo..hi),
+            rng.random_range(lo..hi),
+        );
+        let v = Vec3::new(
+            rng.random_range(-speed..speed),
+            rng.random_range(-speed..speed),
+            rng.random_range(-speed..speed),
+        );
+        if out
+            .iter()
+            .all(|(q, plan)| (plan.position - p).length() > r + q + 1e-3)
+        {
+            out.push((r, FlightPlan::linear(p, v)));
+        }
+    }
+    out
+}
+
+/// Runs `gas` to `t`, validating after every event.
+fn run(gas: &mut PeriodicSpheres, t: Real) -> Vec<ContactEvent> {
+    gas.validate().unwrap();
+    while gas.step(t).unwrap() {
+        gas.validate()
+            .unwrap_or_else(|e| panic!("at {}: {e}", gas.now()));
+    }
+    gas.advance_to(t).unwrap();
+    gas.drain_events()
+}
+
+#[test]
+fn a_box_too_wide_to_wrap_gives_the_worlds_log() {
+    for seed in 0..4 {
+        let spheres = random_spheres(seed, 80, (0.3, 0.6), 0.0, 7.0, 1.0);
+        let cell = PeriodicBox {
+            min: Vec3::splat(-100.0),
+            max: Vec3::splat(100.0),
+        };
+        let mut gas = PeriodicSpheres::new(cell, &spheres).unwrap();
+        let mut world = World::with_structure(
+            WorldKind::Free,
+            Response::Elastic,
+            None,
+            Box::new(BruteForce::new()),
+        )
+        .unwrap();
+        for (r, plan) in &spheres {
+            world.add_ball(*r, *plan).unwrap();
+        }
+        world.advance_to(20.0).unwrap();
+        let expected = world.drain_events();
+        let got = run(&mut gas, 20.0);
+        assert!(
+            expected.len() > 30,
+            "seed {seed}: {} events",
+            expected.len()
+        );
+        assert_eq!(got, expected, "seed {seed}");
+    }
+}
+
+/// The exhaustive periodic reference: every pair, through each of the 27 images around its
+/// nearest, the earliest failure (ties by pair), the same exchange.
+fn reference(cell: PeriodicBox, spheres: &[(Real, FlightPlan)], until: Real) -> Vec<ContactEvent> {
+    let side = cell.max - cell.min;
+    let mut m: Vec<Motion> = spheres
+        .iter()
+        .map(|(r, p)| Motion {
+            t0: p.t0,
+            position: p.position,
+            velocity: p.velocity,
+            radius: *r,
+        })
+        .collect();
+    let mut now = 0.0;
+    let mut log = Vec::new();
+    loop {
+        let mut best: Option<(Real, u64, usize, usize, Vec3)> = None;
+        for a in 0..m.len() {
+            for b in a + 1..m.len() {
+                let d = m[a].at(now) - m[b].at(now);
+                let near = (d / side).round();
+                for dx in -1..=1 {
+                    for dy in -1..=1 {
+                        for dz in -1..=1 {
+                            let s = (near + Vec3::new(dx as Real, dy as Real, dz as Real)) * side;
+                            if let Some((t, false)) =
+                                pair_due(&m[a], &m[b], s, now, None, Real::INFINITY)
+                            {
+                                let key = ((a as u64) << 32) | b as u64;
+                                if best.is_none_or(|(bt, bk, ..)| (t, key) < (bt, bk)) {
+                                    best = Some((t, key, a, b, s));
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        let Some((t, _, a, b, s)) = best else { break };
+        if t > until {
+            break;
+        }
+        now = t;
+        let (va, vb, _) = exchange(&m[a], &m[b], s, now).expect("approaching");
+        for (i, v) in [(a, va), (b, vb)] {
+            m[i].position = m[i].at(now);
+            m[i].t0 = now;
+            m[i].velocity = v;
+        }
+        log.push(ContactEvent {
+            time: now,
+            a: ObjectId(a as u32),
+            b: ObjectId(b as u32),
+            kind: ContactKind::Begin,
+        });
+    }
+    log
+}
+
+#[test]
+fn images_collide_as_the_exhaustive_reference_says() {
+    for (seed, n, side) in [(1, 30, 6.0), (2, 40, 7.0), (3, 20, 3.2), (4, 50, 9.0)] {
+        let spheres = random_spheres(seed, n, (0.3, 0.5), 0.0, side, 2.0);
+        let cell = PeriodicBox {
+            min: Vec3::ZERO,
+            max: Vec3::splat(side),
+        };
+        let mut gas = PeriodicSpheres::new(cell, &spheres).unwrap();
+        let got = run(&mut gas, 12.0);
+        let expected = reference(cell, &spheres, 12.0);
+        assert!(
+            expected.len() > 100,
+            "seed {seed}: {} events",
+            expected.len()
+        );
+        assert_eq!(got, expected, "seed {seed}");
+        assert!(
+            gas.stats()
+                .events_by_kind
+                .get("shell")
+                .copied()
+                .unwrap_or(0)
+                > 0
+        );
+    }
+}
+
+#[test]
+fn energy_and_momentum_are_kept_and_the_bulk_is_sane() {
+    let side = 12.0;
+    let spheres = random_spheres(9, 300, (0.5, 0.5), 0.0, side, 1.0);
+    let cell = PeriodicBox {
+        min: Vec3::ZERO,
+        max: Vec3::splat(side),
+    };
+    let mut gas = PeriodicSpheres::new(cell, &spheres).unwrap();
+    let energy = |g: &PeriodicSpheres| -> Real {
+        g.motion.iter().map(|m| m.velocity.length_squared()).sum()
+    };
+    let momentum = |g: &PeriodicSpheres| -> Vec3 { g.motion.iter().map(|m| m.velocity).sum() };
+    let (e0, p0) = (energy(&gas), momentum(&gas));
+    gas.advance_to(30.0).unwrap();
+    gas.validate().unwrap();
+    assert!((energy(&gas) - e0).abs() < 1e-9 * e0);
+    assert!((momentum(&gas) - p0).length() < 1e-9 * e0.sqrt());
+    let bulk = gas.bulk();
+    assert!(bulk.collision_rate > 0.1, "{bulk:?}");
+    assert!(bulk.compressibility > 1.0, "{bulk:?}");
+}
+
+#[test]
+fn bad_boxes_and_spheres_are_refused() {
+    let cell = PeriodicBox {
+        min: Vec3::ZERO,
+        max: Vec3::splat(2.0),
+    };
+    let one = [(0.5, FlightPlan::at_rest(Vec3::ONE))];
+    let e = PeriodicSpheres::new(cell, &one).unwrap_err().to_string();
+    assert!(e.contains("at least"), "{e}");
+    let cell = PeriodicBox {
+        min: Vec3::ZERO,
+        max: Vec3::splat(10.0),
+    };
+    let outside = [(0.5, FlightPlan::at_rest(Vec3::splat(11.0)))];
+    assert!(PeriodicSpheres::new(cell, &outside).is_err());
+    let falling = [(
+        0.5,
+        FlightPlan::accelerated(Vec3::ONE, Vec3::ZERO, Vec3::new(0.0, 0.0, -9.8)),
+    )];
+    assert!(PeriodicSpheres::new(cell, &falling).is_err());
+    let empty = PeriodicSpheres::new(cell, &[]).unwrap();
+    assert!(empty.is_empty());
+}
