@@ -3,7 +3,7 @@
 
 use super::calendar::Calendar;
 use super::lists::{CentreGrid, Filed, Lists};
-use super::{Motion, Neighbour, Next, PeriodicBox, PeriodicSpheres, SHELL, SLACK};
+use super::{Motion, Next, Period, PeriodicBox, PeriodicSpheres, SHELL, SLACK};
 use crate::math::{Real, Vec3};
 use crate::plan::FlightPlan;
 use crate::world::step::ZenoGuard;
@@ -21,14 +21,6 @@ fn z_key(c: [u32; 3]) -> u64 {
         (x | x << 2) & 0x1249_2492_4924_9249
     };
     spread(c[0]) | spread(c[1]) << 1 | spread(c[2]) << 2
-}
-
-/// Rounds each coordinate to the nearest integer (ties to even) for magnitudes below 2^51,
-/// without a library call.
-#[inline]
-fn round(v: Vec3) -> Vec3 {
-    const MAGIC: Real = 6_755_399_441_055_744.0; // 1.5 * 2^52
-    (v + MAGIC) - MAGIC
 }
 
 fn invalid(what: String) -> WorldError {
@@ -124,8 +116,12 @@ impl PeriodicSpheres {
             .collect();
         let mut gas = PeriodicSpheres {
             now: 0.0,
-            side,
-            inv_side: Vec3::ONE / side,
+            period: Period {
+                min: cell.min,
+                side,
+                inv_side: Vec3::ONE / side,
+                half_side: side * 0.5,
+            },
             ext,
             motion,
             counter: vec![0; n],
@@ -147,7 +143,7 @@ impl PeriodicSpheres {
             event_counts: [0; 4],
             buffer: Vec::new(),
         };
-        gas.list_all()?;
+        gas.list_all();
         // The first events, then a calendar whose buckets hold a few dozen events each.
         let mut sum = 0.0;
         let mut finite = 0usize;
@@ -177,20 +173,18 @@ impl PeriodicSpheres {
     }
 
     /// Lists every pair whose centres are within the list reach.
-    fn list_all(&mut self) -> Result<(), WorldError> {
+    fn list_all(&mut self) {
         let mut around = std::mem::take(&mut self.buffer);
+        let (period, factor) = (self.period, self.list_factor);
         for i in 0..self.len() as u32 {
             around.clear();
             let me = self.filed(i);
             self.grid.around(self.grid.cell(me.centre), &mut around);
-            for other in &around {
-                if other.id > i {
-                    self.list_pair(&me, other)?;
-                }
+            for other in around.iter().filter(|o| o.id > i) {
+                list_if_near(&mut self.lists, &period, factor, &me, other);
             }
         }
         self.buffer = around;
-        Ok(())
     }
 
     fn filed(&self, i: u32) -> Filed {
@@ -201,93 +195,36 @@ impl PeriodicSpheres {
         }
     }
 
-    /// Lists two spheres with each other if their centres are within the list reach.
-    #[inline]
-    fn list_pair(&mut self, me: &Filed, other: &Filed) -> Result<(), WorldError> {
-        let mut result = Ok(());
-        let (side, inv_side, factor) = (self.side, self.inv_side, self.list_factor);
-        list_if_near(
-            &mut self.lists,
-            side,
-            inv_side,
-            factor,
-            me,
-            other,
-            &mut result,
-        );
-        result.map_err(|()| self.travelled(me.id, other.id))
-    }
-
-    fn travelled(&self, a: u32, b: u32) -> WorldError {
-        invalid(format!(
-            "objects {} and {}: a sphere travelled more than 30,000 box lengths",
-            self.ext[a as usize], self.ext[b as usize]
-        ))
-    }
-
     /// Sphere `id` reached its shell: it re-centres where it is and lists again.
-    pub(super) fn relist(&mut self, id: u32) -> Result<(), WorldError> {
+    pub(super) fn relist(&mut self, id: u32) {
         let i = id as usize;
         for j in 0..self.lists.of(id).len() {
-            let other = self.lists.of(id)[j].id;
+            let other = self.lists.of(id)[j];
             self.lists.remove(other, id);
         }
         self.lists.clear(id);
         self.centre[i] = self.motion[i].at(self.now);
         self.grid.remove(id);
         let me = self.filed(id);
-        let (side, inv_side, factor) = (self.side, self.inv_side, self.list_factor);
+        let (period, factor) = (self.period, self.list_factor);
         let lists = &mut self.lists;
-        let mut result = Ok(());
-        let mut far = id;
         self.grid
             .for_each_around(self.grid.cell(me.centre), |other| {
-                list_if_near(lists, side, inv_side, factor, &me, other, &mut result);
-                if result.is_err() && far == id {
-                    far = other.id;
-                }
+                list_if_near(lists, &period, factor, &me, other);
             });
         self.grid.insert(id, me.centre, me.radius);
-        result.map_err(|()| self.travelled(id, far))
     }
 }
 
 /// Lists `me` and `other` with each other if their centres are within `factor` times their
-/// sum of radii (nearest image); an image shift too large to hold sets `result` to an error.
+/// sum of radii (nearest image).
 #[inline]
-fn list_if_near(
-    lists: &mut Lists,
-    side: Vec3,
-    inv_side: Vec3,
-    factor: Real,
-    me: &Filed,
-    other: &Filed,
-    result: &mut Result<(), ()>,
-) {
+fn list_if_near(lists: &mut Lists, period: &Period, factor: Real, me: &Filed, other: &Filed) {
     let d = me.centre - other.centre;
-    let s = round(d * inv_side);
-    let d = d - s * side;
+    let d = d - period.nearest(d);
     let reach = (me.radius + other.radius) * factor;
     if d.length_squared() < reach * reach {
-        if s.abs().max_element() > i16::MAX as Real - 1.0 {
-            *result = Err(());
-            return;
-        }
-        let shift = [s.x as i16, s.y as i16, s.z as i16];
-        lists.push(
-            me.id,
-            Neighbour {
-                id: other.id,
-                shift,
-            },
-        );
-        let back = [-shift[0], -shift[1], -shift[2]];
-        lists.push(
-            other.id,
-            Neighbour {
-                id: me.id,
-                shift: back,
-            },
-        );
+        lists.push(me.id, other.id);
+        lists.push(other.id, me.id);
     }
 }

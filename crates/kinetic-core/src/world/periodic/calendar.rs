@@ -25,11 +25,27 @@ struct Slot {
     next: u32,
 }
 
+/// A heap entry: the key inline, so that sifting reads the heap alone.
+#[derive(Clone, Copy, Debug)]
+struct Entry {
+    time: Real,
+    tie: u64,
+    id: u32,
+}
+
+impl Entry {
+    #[inline]
+    fn before(&self, other: &Entry) -> bool {
+        self.time < other.time
+            || (self.time == other.time && (self.tie, self.id) < (other.tie, other.id))
+    }
+}
+
 /// The queue.
 #[derive(Clone, Debug)]
 pub(super) struct Calendar {
     slots: Vec<Slot>,
-    heap: Vec<u32>,
+    heap: Vec<Entry>,
     /// Heads of the bucket lists, then the overflow list's.
     heads: Vec<u32>,
     /// The inverse of the bucket width, and the time of bucket 0.
@@ -76,17 +92,18 @@ impl Calendar {
         (self.heads.len() - 1) as u64
     }
 
-    #[inline]
-    fn before(&self, a: u32, b: u32) -> bool {
-        let (x, y) = (&self.slots[a as usize], &self.slots[b as usize]);
-        x.time < y.time || (x.time == y.time && (x.tie, a) < (y.tie, b))
+    fn entry(&self, id: u32) -> Entry {
+        let s = &self.slots[id as usize];
+        Entry {
+            time: s.time,
+            tie: s.tie,
+            id,
+        }
     }
 
     /// The time of the earliest event, or infinity.
     pub(super) fn next_time(&self) -> Real {
-        self.heap
-            .first()
-            .map_or(Real::INFINITY, |&id| self.slots[id as usize].time)
+        self.heap.first().map_or(Real::INFINITY, |e| e.time)
     }
 
     /// The time `id` is scheduled at, if it is.
@@ -97,13 +114,22 @@ impl Calendar {
 
     /// The earliest event: its id and time.
     pub(super) fn peek(&self) -> Option<(u32, Real)> {
-        self.heap
-            .first()
-            .map(|&id| (id, self.slots[id as usize].time))
+        self.heap.first().map(|e| (e.id, e.time))
     }
 
     /// Schedules `id` at `(time, tie)`, replacing its entry.
     pub(super) fn schedule(&mut self, id: u32, time: Real, tie: u64) {
+        let place = self.slots[id as usize].place;
+        if place < LISTED && (time - self.origin) * self.inv_width < (self.current + 1) as Real {
+            // In the heap, and staying there: move it in place.
+            let s = &mut self.slots[id as usize];
+            (s.time, s.tie) = (time, tie);
+            let pos = place as usize;
+            self.heap[pos] = Entry { time, tie, id };
+            self.sift_down(pos);
+            self.sift_up(pos);
+            return;
+        }
         self.remove(id);
         let s = &mut self.slots[id as usize];
         s.time = time;
@@ -244,7 +270,7 @@ impl Calendar {
 
     fn heap_push(&mut self, id: u32) {
         let pos = self.heap.len();
-        self.heap.push(id);
+        self.heap.push(self.entry(id));
         self.slots[id as usize].place = pos as u32;
         self.sift_up(pos);
     }
@@ -253,58 +279,59 @@ impl Calendar {
         let last = self.heap.pop().expect("a heap position");
         if pos < self.heap.len() {
             self.heap[pos] = last;
-            self.slots[last as usize].place = pos as u32;
+            self.slots[last.id as usize].place = pos as u32;
             self.sift_down(pos);
             self.sift_up(pos);
         }
     }
 
     fn sift_up(&mut self, mut pos: usize) {
-        let id = self.heap[pos];
+        let e = self.heap[pos];
         while pos > 0 {
             let parent = (pos - 1) / 2;
             let p = self.heap[parent];
-            if !self.before(id, p) {
+            if !e.before(&p) {
                 break;
             }
             self.heap[pos] = p;
-            self.slots[p as usize].place = pos as u32;
+            self.slots[p.id as usize].place = pos as u32;
             pos = parent;
         }
-        self.heap[pos] = id;
-        self.slots[id as usize].place = pos as u32;
+        self.heap[pos] = e;
+        self.slots[e.id as usize].place = pos as u32;
     }
 
     fn sift_down(&mut self, mut pos: usize) {
-        let id = self.heap[pos];
+        let e = self.heap[pos];
         let n = self.heap.len();
         loop {
             let mut child = 2 * pos + 1;
             if child >= n {
                 break;
             }
-            if child + 1 < n && self.before(self.heap[child + 1], self.heap[child]) {
+            if child + 1 < n && self.heap[child + 1].before(&self.heap[child]) {
                 child += 1;
             }
             let c = self.heap[child];
-            if !self.before(c, id) {
+            if !c.before(&e) {
                 break;
             }
             self.heap[pos] = c;
-            self.slots[c as usize].place = pos as u32;
+            self.slots[c.id as usize].place = pos as u32;
             pos = child;
         }
-        self.heap[pos] = id;
-        self.slots[id as usize].place = pos as u32;
+        self.heap[pos] = e;
+        self.slots[e.id as usize].place = pos as u32;
     }
 
     /// Checks the heap order, the places and the counts.
     pub(super) fn validate(&self) -> Result<(), String> {
-        for (pos, &id) in self.heap.iter().enumerate() {
-            if self.slots[id as usize].place != pos as u32 {
-                return Err(format!("calendar: heap entry {id} has the wrong place"));
+        for (pos, e) in self.heap.iter().enumerate() {
+            let s = &self.slots[e.id as usize];
+            if s.place != pos as u32 || (s.time, s.tie) != (e.time, e.tie) {
+                return Err(format!("calendar: heap entry {} is out of step", e.id));
             }
-            if pos > 0 && self.before(id, self.heap[(pos - 1) / 2]) {
+            if pos > 0 && e.before(&self.heap[(pos - 1) / 2]) {
                 return Err(format!("calendar: heap out of order at {pos}"));
             }
         }
@@ -316,8 +343,8 @@ impl Calendar {
                 if s.place != LISTED + b as u32 {
                     return Err(format!("calendar: listed entry {id} has the wrong place"));
                 }
-                if let Some(&top) = self.heap.first()
-                    && self.before(id, top)
+                if let Some(top) = self.heap.first()
+                    && self.entry(id).before(top)
                 {
                     return Err(format!(
                         "calendar: listed entry {id} before the heap's first"

@@ -1,7 +1,7 @@
 //! Processing events: collisions (the elastic exchange through the pair's image), stale
 //! events, shell crossings.
 
-use super::{Kind, Motion, Next, PeriodicSpheres};
+use super::{Kind, Motion, Next, Period, PeriodicSpheres};
 use crate::math::{Real, Vec3};
 use crate::world::{ContactEvent, ContactKind, ObjectId, WorldError};
 
@@ -37,6 +37,17 @@ pub(super) fn exchange(
     Some((va - n * (wa * u), vb + n * (wb * u), -mass_a * wa * u * len))
 }
 
+/// `p` wrapped into the box, and the whole periods taken off it.
+#[inline]
+pub(super) fn wrapped(period: &Period, p: Vec3) -> (Vec3, Vec3) {
+    let outside = period.outside(p);
+    if outside == Vec3::ZERO {
+        (p, outside)
+    } else {
+        (p - outside, outside)
+    }
+}
+
 impl PeriodicSpheres {
     /// Processes the next event if it is due by `until`; returns whether one was.
     pub fn step(&mut self, until: Real) -> Result<bool, WorldError> {
@@ -63,12 +74,12 @@ impl PeriodicSpheres {
                     self.event_counts[1] += 1;
                     self.predict(id);
                 } else {
-                    self.fire(id, next.other, next.shift, next.graze);
+                    self.fire(id, next.other, next.graze);
                 }
             }
             Kind::Shell => {
                 self.event_counts[2] += 1;
-                self.relist(id)?;
+                self.relist(id);
                 self.predict(id);
             }
         }
@@ -83,7 +94,7 @@ impl PeriodicSpheres {
 
     /// A pair certificate fails: report the contact and respond. Spheres whose plans do not
     /// change (a graze, or spheres that are not approaching) skip that event of the pair.
-    fn fire(&mut self, a: u32, b: u32, shift: [i16; 3], graze: bool) {
+    fn fire(&mut self, a: u32, b: u32, graze: bool) {
         let (ea, eb) = (self.ext[a as usize], self.ext[b as usize]);
         self.stats.begins += 1;
         self.events.push(ContactEvent {
@@ -94,7 +105,8 @@ impl PeriodicSpheres {
         });
         let (ma, mb) = (self.motion[a as usize], self.motion[b as usize]);
         let now = self.now;
-        if !graze && let Some((va, vb, virial)) = exchange(&ma, &mb, self.shift_of(shift), now) {
+        let shift = self.period.nearest(ma.at(now) - mb.at(now));
+        if !graze && let Some((va, vb, virial)) = exchange(&ma, &mb, shift, now) {
             self.event_counts[0] += 1;
             self.collisions += 1;
             self.virial += virial;
@@ -112,13 +124,18 @@ impl PeriodicSpheres {
         self.predict(b);
     }
 
-    /// Sphere `id` moves on from now at `velocity`: its old predictions are stale.
+    /// Sphere `id` moves on from now at `velocity`: its old predictions are stale. A start
+    /// outside the box is wrapped into it, and the list centre with it.
     fn replan(&mut self, id: u32, velocity: Vec3) {
         let i = id as usize;
         let m = &mut self.motion[i];
-        m.position = m.at(self.now);
+        let (position, outside) = wrapped(&self.period, m.at(self.now));
+        m.position = position;
         m.t0 = self.now;
         m.velocity = velocity;
+        if outside != Vec3::ZERO {
+            self.centre[i] -= outside;
+        }
         self.counter[i] = self.counter[i].wrapping_add(1);
         if !self.skips.is_empty() {
             self.skips.remove(&id);

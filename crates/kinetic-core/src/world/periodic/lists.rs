@@ -1,7 +1,7 @@
 //! Neighbour lists (a fixed stride per sphere, grown when a list overflows) and the cell grid
 //! of list centres they are made from.
 
-use super::{NIL, Neighbour};
+use super::NIL;
 use crate::math::{Real, Vec3};
 
 /// Every sphere's neighbours, `stride` slots each.
@@ -9,14 +9,11 @@ use crate::math::{Real, Vec3};
 pub(super) struct Lists {
     stride: usize,
     len: Vec<u16>,
-    slots: Vec<Neighbour>,
+    slots: Vec<u32>,
     total: usize,
 }
 
-const EMPTY: Neighbour = Neighbour {
-    id: NIL,
-    shift: [0; 3],
-};
+const EMPTY: u32 = NIL;
 
 impl Lists {
     pub(super) fn new(spheres: usize, stride: usize) -> Lists {
@@ -39,12 +36,12 @@ impl Lists {
     }
 
     #[inline]
-    pub(super) fn of(&self, i: u32) -> &[Neighbour] {
+    pub(super) fn of(&self, i: u32) -> &[u32] {
         let at = i as usize * self.stride;
         &self.slots[at..at + self.len[i as usize] as usize]
     }
 
-    pub(super) fn push(&mut self, i: u32, n: Neighbour) {
+    pub(super) fn push(&mut self, i: u32, n: u32) {
         if self.len[i as usize] as usize == self.stride {
             self.grow();
         }
@@ -58,7 +55,7 @@ impl Lists {
     pub(super) fn remove(&mut self, i: u32, other: u32) {
         let at = i as usize * self.stride;
         let l = self.len[i as usize] as usize;
-        if let Some(k) = self.slots[at..at + l].iter().position(|n| n.id == other) {
+        if let Some(k) = self.slots[at..at + l].iter().position(|&n| n == other) {
             self.slots[at + k] = self.slots[at + l - 1];
             self.len[i as usize] -= 1;
             self.total -= 1;

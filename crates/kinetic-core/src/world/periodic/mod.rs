@@ -6,10 +6,11 @@
 //! world's time, bit for bit), and a shell certificate per sphere that says its list still
 //! holds every sphere it could touch.
 //!
-//! - **Images.** Positions are never wrapped: a sphere's plan is the world's plan. A listed
-//!   pair carries the integer shift `s` of the image it meets, and its gap is that of
-//!   `(x_a - x_b) - s L`. The box must be at least three list reaches wide, so a sphere meets
-//!   at most one image of another.
+//! - **Images.** A pair meets through its nearest image now: its gap is that of
+//!   `(x_a - x_b) - s L`, with `s` the integers that make the difference smallest. The box
+//!   must be at least three list reaches wide, so a sphere meets at most one image of another.
+//!   A sphere's plan is the world's; when a collision gives it a new plan whose start lies
+//!   outside the box, the start is wrapped into it (a whole number of periods).
 //! - **Neighbour lists with a shell.** Each sphere has a list centre (its position when the
 //!   list was made) and lists the spheres whose centres were within `SHELL (r_a + r_b)` of it.
 //!   While each sphere stays within `(SHELL - 1) r` of its centre, an unlisted pair cannot
@@ -67,15 +68,14 @@ enum Kind {
     Shell,
 }
 
-/// A sphere's next event: time, queue tie-break, and for a pair the partner, the partner's
-/// plan number when it was predicted, and the image shift.
+/// A sphere's next event: time, queue tie-break, and for a pair the partner and the
+/// partner's plan number when it was predicted.
 #[derive(Clone, Copy, Debug)]
 struct Next {
     time: Real,
     tie: u64,
     other: u32,
     counter: u32,
-    shift: [i16; 3],
     kind: Kind,
     graze: bool,
 }
@@ -86,7 +86,6 @@ impl Next {
         tie: u64::MAX,
         other: NIL,
         counter: 0,
-        shift: [0; 3],
         kind: Kind::Idle,
         graze: false,
     };
@@ -109,11 +108,35 @@ impl Motion {
     }
 }
 
-/// A neighbour: the sphere, and the image shift `s` of the pair (`x_me - x_it - s L`).
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Neighbour {
-    id: u32,
-    shift: [i16; 3],
+/// The box's period along each axis.
+#[derive(Clone, Copy, Debug)]
+struct Period {
+    min: Vec3,
+    side: Vec3,
+    inv_side: Vec3,
+    half_side: Vec3,
+}
+
+impl Period {
+    /// The image shift `s L` that makes the difference `d` smallest.
+    #[inline]
+    fn nearest(&self, d: Vec3) -> Vec3 {
+        round(d * self.inv_side) * self.side
+    }
+
+    /// The whole periods by which `p` lies outside the box (zero inside).
+    #[inline]
+    fn outside(&self, p: Vec3) -> Vec3 {
+        ((p - self.min) * self.inv_side).floor() * self.side
+    }
+}
+
+/// Rounds each coordinate to the nearest integer (ties to even) for magnitudes below 2^51,
+/// without a library call.
+#[inline]
+fn round(v: Vec3) -> Vec3 {
+    const MAGIC: Real = 6_755_399_441_055_744.0; // 1.5 * 2^52
+    (v + MAGIC) - MAGIC
 }
 
 /// Elastic spheres in a periodic box: the whole simulation of a bulk hard-sphere fluid, with
@@ -135,8 +158,7 @@ struct Neighbour {
 #[derive(Debug)]
 pub struct PeriodicSpheres {
     now: Real,
-    side: Vec3,
-    inv_side: Vec3,
+    period: Period,
     /// Spheres are numbered internally in memory order (cell by cell): `ext` gives each
     /// one's own id.
     ext: Vec<u32>,
@@ -233,7 +255,8 @@ impl PeriodicSpheres {
     /// Collision rate, temperature and pressure over the run so far.
     pub fn bulk(&self) -> Bulk {
         let n = self.len().max(1) as Real;
-        let volume = self.side.x * self.side.y * self.side.z;
+        let side = self.period.side;
+        let volume = side.x * side.y * side.z;
         let elapsed = self.now - self.start;
         let kt = self.two_kinetic / (3.0 * n);
         let per_time = if elapsed > 0.0 { 1.0 / elapsed } else { 0.0 };

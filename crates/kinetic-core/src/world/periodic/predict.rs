@@ -13,22 +13,30 @@ use crate::world::pairs::{Due, Walk};
 /// image `shift` (`(x_a - x_b) - shift`), after `now`: its time, and whether it is a graze.
 ///
 /// The gap is taken around the later of the two plans' starts, as the world takes it, so a
-/// pair with no shift fails at the world's time, bit for bit. `skip` is a time up to which
-/// the pair's events were consumed without a change of plans (after a graze). With `bound`
-/// finite, a failure that clearly comes after `bound` may be reported as none.
+/// pair with no shift fails at the world's time, bit for bit. `d_now` is
+/// `(x_a - x_b) - shift` now, as [`Motion::at`] gives the positions. `skip` is a time up to
+/// which the pair's events were consumed without a change of plans (after a graze). With
+/// `bound` finite, a failure that clearly comes after `bound` may be reported as none.
 #[inline]
 pub(super) fn pair_due(
     ma: &Motion,
     mb: &Motion,
     shift: Vec3,
+    d_now: Vec3,
     now: Real,
     skip: Option<Real>,
     bound: Real,
 ) -> Option<(Real, bool)> {
-    let base = ma.t0.max(mb.t0).min(now);
+    // max and min of finite times, without the NaN handling of `f64::max`.
+    let later = if ma.t0 > mb.t0 { ma.t0 } else { mb.t0 };
+    let base = if later < now { later } else { now };
     let reach = ma.radius + mb.radius;
     let threshold2 = reach * reach;
-    let db = (ma.at(base) - mb.at(base)) - shift;
+    let db = if base == now {
+        d_now
+    } else {
+        (ma.at(base) - mb.at(base)) - shift
+    };
     let c0 = db.dot(db) - threshold2;
     let v = ma.velocity - mb.velocity;
     let c1 = 2.0 * db.dot(v);
@@ -40,8 +48,7 @@ pub(super) fn pair_due(
         let gap_now = if base == now {
             c0
         } else {
-            let d = (ma.at(now) - mb.at(now)) - shift;
-            d.dot(d) - threshold2
+            d_now.dot(d_now) - threshold2
         };
         if gap_now > 0.0 {
             if c1 >= 0.0 {
@@ -137,22 +144,9 @@ fn shell_exit(position: Vec3, velocity: Vec3, centre: Vec3, radius: Real) -> Rea
 }
 
 impl PeriodicSpheres {
-    /// The shift `s L` of an image.
-    #[inline]
-    pub(super) fn shift_of(&self, s: [i16; 3]) -> Vec3 {
-        Vec3::new(
-            s[0] as Real * self.side.x,
-            s[1] as Real * self.side.y,
-            s[2] as Real * self.side.z,
-        )
-    }
-
     /// The time up to which the pair's events were consumed, if any.
     #[inline]
     pub(super) fn skip_of(&self, a: u32, b: u32) -> Option<Real> {
-        if self.skips.is_empty() {
-            return None;
-        }
         let c = self.counter[b as usize];
         self.skips
             .get(&a)?
@@ -161,13 +155,14 @@ impl PeriodicSpheres {
             .map(|s| s.2)
     }
 
-    /// Recomputes sphere `id`'s next event from its shell and its listed pairs and schedules
-    /// it.
+    /// Recomputes sphere `id`'s next event from its shell and its listed pairs (each through
+    /// its nearest image now) and schedules it.
     pub(super) fn predict(&mut self, id: u32) {
         let i = id as usize;
         let m = self.motion[i];
         let now = self.now;
-        let exit = shell_exit(m.at(now), m.velocity, self.centre[i], self.shell[i]);
+        let here = m.at(now);
+        let exit = shell_exit(here, m.velocity, self.centre[i], self.shell[i]);
         let mut best = Next {
             time: now + exit,
             tie: TIE_SHELL,
@@ -175,42 +170,49 @@ impl PeriodicSpheres {
             ..Next::IDLE
         };
         let mut best_tie = None;
-        for n in self.lists.of(id) {
-            let mb = &self.motion[n.id as usize];
-            let shift = if n.shift == [0; 3] {
-                Vec3::ZERO
-            } else {
-                self.shift_of(n.shift)
-            };
-            let skip = self.skip_of(id, n.id);
-            let Some((time, graze)) = pair_due(&m, mb, shift, now, skip, best.time) else {
-                continue;
-            };
-            if time > best.time {
-                continue;
-            }
-            if time == best.time {
-                // A tie: the pair with the lower key (own ids) goes first, shells last.
-                let tie = pair_key(self.ext[i], self.ext[n.id as usize]);
-                let held = *best_tie.get_or_insert_with(|| match best.kind {
-                    Kind::Pair => pair_key(self.ext[i], self.ext[best.other as usize]),
-                    _ => TIE_SHELL,
-                });
-                if tie >= held {
+        let skips = !self.skips.is_empty();
+        for &k in self.lists.of(id) {
+            {
+                let mb = &self.motion[k as usize];
+                let d = here - mb.at(now);
+                // A listed pair is within a third of the box of its nearest image: no shift
+                // unless the difference is beyond half the box on some axis.
+                let (shift, d) = if d.abs().cmplt(self.period.half_side).all() {
+                    (Vec3::ZERO, d)
+                } else {
+                    let shift = self.period.nearest(d);
+                    (shift, d - shift)
+                };
+                let skip = if skips { self.skip_of(id, k) } else { None };
+                let due = pair_due(&m, mb, shift, d, now, skip, best.time);
+                let Some((time, graze)) = due else {
+                    continue;
+                };
+                if time > best.time {
                     continue;
                 }
-                best_tie = Some(tie);
-            } else {
-                best_tie = None;
+                if time == best.time {
+                    // A tie: the pair with the lower key (own ids) goes first, shells last.
+                    let tie = pair_key(self.ext[i], self.ext[k as usize]);
+                    let held = *best_tie.get_or_insert_with(|| match best.kind {
+                        Kind::Pair => pair_key(self.ext[i], self.ext[best.other as usize]),
+                        _ => TIE_SHELL,
+                    });
+                    if tie >= held {
+                        continue;
+                    }
+                    best_tie = Some(tie);
+                } else {
+                    best_tie = None;
+                }
+                best = Next {
+                    time,
+                    other: k,
+                    kind: Kind::Pair,
+                    graze,
+                    ..best
+                };
             }
-            best = Next {
-                time,
-                other: n.id,
-                shift: n.shift,
-                kind: Kind::Pair,
-                graze,
-                ..best
-            };
         }
         if best.kind == Kind::Pair {
             best.tie = pair_key(self.ext[i], self.ext[best.other as usize]);

@@ -2,7 +2,7 @@
 //! against an exhaustive periodic reference (every pair, every nearby image), event by event,
 //! with `validate()` after every event.
 
-use super::event::exchange;
+use super::event::{exchange, wrapped};
 use super::predict::pair_due;
 use super::*;
 use crate::{BruteForce, ContactKind, FlightPlan, ObjectId, Response, World, WorldKind};
@@ -86,9 +86,15 @@ fn a_box_too_wide_to_wrap_gives_the_worlds_log() {
 }
 
 /// The exhaustive periodic reference: every pair, through each of the 27 images around its
-/// nearest, the earliest failure (ties by pair), the same exchange.
+/// nearest, the earliest failure (ties by pair), the same exchange, starts wrapped the same way.
 fn reference(cell: PeriodicBox, spheres: &[(Real, FlightPlan)], until: Real) -> Vec<ContactEvent> {
     let side = cell.max - cell.min;
+    let period = Period {
+        min: cell.min,
+        side,
+        inv_side: Vec3::ONE / side,
+        half_side: side * 0.5,
+    };
     let mut m: Vec<Motion> = spheres
         .iter()
         .map(|(r, p)| Motion {
@@ -110,8 +116,9 @@ fn reference(cell: PeriodicBox, spheres: &[(Real, FlightPlan)], until: Real) -> 
                     for dy in -1..=1 {
                         for dz in -1..=1 {
                             let s = (near + Vec3::new(dx as Real, dy as Real, dz as Real)) * side;
+                            let d_now = (m[a].at(now) - m[b].at(now)) - s;
                             if let Some((t, false)) =
-                                pair_due(&m[a], &m[b], s, now, None, Real::INFINITY)
+                                pair_due(&m[a], &m[b], s, d_now, now, None, Real::INFINITY)
                             {
                                 let key = ((a as u64) << 32) | b as u64;
                                 if best.is_none_or(|(bt, bk, ..)| (t, key) < (bt, bk)) {
@@ -130,7 +137,7 @@ fn reference(cell: PeriodicBox, spheres: &[(Real, FlightPlan)], until: Real) -> 
         now = t;
         let (va, vb, _) = exchange(&m[a], &m[b], s, now).expect("approaching");
         for (i, v) in [(a, va), (b, vb)] {
-            m[i].position = m[i].at(now);
+            m[i].position = wrapped(&period, m[i].at(now)).0;
             m[i].t0 = now;
             m[i].velocity = v;
         }

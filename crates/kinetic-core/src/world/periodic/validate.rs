@@ -3,7 +3,7 @@
 use super::{Kind, PeriodicSpheres};
 
 impl PeriodicSpheres {
-    /// Checks the invariants: lists are symmetric with opposite shifts; every sphere is
+    /// Checks the invariants: lists are symmetric; every sphere is
     /// within its shell; every unlisted pair's centres are beyond the list reach (nearest
     /// image), so it cannot touch; every scheduled event is not before now and is the one the
     /// queue holds; the queue is ordered.
@@ -11,18 +11,9 @@ impl PeriodicSpheres {
         self.queue.validate()?;
         let n = self.len();
         for i in 0..n as u32 {
-            for nb in self.lists.of(i) {
-                let back = [-nb.shift[0], -nb.shift[1], -nb.shift[2]];
-                if !self
-                    .lists
-                    .of(nb.id)
-                    .iter()
-                    .any(|m| m.id == i && m.shift == back)
-                {
-                    return Err(format!(
-                        "periodic: list of {i} holds {} but not back",
-                        nb.id
-                    ));
+            for &k in self.lists.of(i) {
+                if !self.lists.of(k).contains(&i) {
+                    return Err(format!("periodic: list of {i} holds {k} but not back"));
                 }
             }
             let m = &self.motion[i as usize];
@@ -46,9 +37,10 @@ impl PeriodicSpheres {
         for i in 0..n {
             for k in i + 1..n {
                 let d = self.centre[i] - self.centre[k];
-                let d = d - (d * self.inv_side).round() * self.side;
+                let side = self.period.side;
+                let d = d - (d / side).round() * side;
                 let reach = (self.motion[i].radius + self.motion[k].radius) * self.list_factor;
-                let listed = self.lists.of(i as u32).iter().any(|m| m.id == k as u32);
+                let listed = self.lists.of(i as u32).contains(&(k as u32));
                 if !listed && d.length() < reach * (1.0 - 1e-12) {
                     return Err(format!(
                         "periodic: spheres {i} and {k} are {} apart at their centres, within the reach {reach}, and not listed",
