@@ -23,6 +23,7 @@
 use kinetic_collide::run::{StructureName, choose_structure};
 use kinetic_collide::scene::outer_radius;
 use kinetic_collide::{ContactKind, ElasticCells, Walls};
+use kinetic_collide_cli::process::peak_kb;
 use kinetic_scenes::hard_spheres::HardSpheres;
 use std::fmt::Write as _;
 use std::io::Write as _;
@@ -82,18 +83,6 @@ impl Measured {
     fn rate(&self) -> f64 {
         self.collisions / self.seconds
     }
-}
-
-/// Peak resident memory of this process, in KiB.
-fn peak_kb() -> f64 {
-    std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("VmHWM:"))
-                .and_then(|l| l.split_whitespace().nth(1)?.parse().ok())
-        })
-        .unwrap_or(f64::NAN)
 }
 
 /// The child: runs one system and prints `collisions seconds peak_kb`.

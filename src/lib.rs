@@ -10,5 +10,6 @@ pub mod chart;
 pub mod compare;
 pub mod frames;
 pub mod output;
+pub mod process;
 pub mod rapier_run;
 pub mod stepped;

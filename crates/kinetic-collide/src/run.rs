@@ -125,41 +125,30 @@ impl Engine for World {
     }
 }
 
-impl Engine for PeriodicSpheres {
-    fn step_to(&mut self, until: f64) -> Result<bool, WorldError> {
-        self.step(until)
-    }
-    fn next_time(&self) -> f64 {
-        self.next_event_time()
-    }
-    fn clock(&self) -> f64 {
-        self.now()
-    }
-    fn take_events(&mut self) -> Vec<ContactEvent> {
-        self.drain_events()
-    }
-    fn finish(&mut self, horizon: f64) -> Result<(), WorldError> {
-        self.advance_to(horizon)
-    }
+/// The whole-scene engines share the world's stepping interface, method for method.
+macro_rules! scene_engine {
+    ($($engine:ty),*) => {$(
+        impl Engine for $engine {
+            fn step_to(&mut self, until: f64) -> Result<bool, WorldError> {
+                self.step(until)
+            }
+            fn next_time(&self) -> f64 {
+                self.next_event_time()
+            }
+            fn clock(&self) -> f64 {
+                self.now()
+            }
+            fn take_events(&mut self) -> Vec<ContactEvent> {
+                self.drain_events()
+            }
+            fn finish(&mut self, horizon: f64) -> Result<(), WorldError> {
+                self.advance_to(horizon)
+            }
+        }
+    )*};
 }
 
-impl Engine for ElasticCells {
-    fn step_to(&mut self, until: f64) -> Result<bool, WorldError> {
-        self.step(until)
-    }
-    fn next_time(&self) -> f64 {
-        self.next_event_time()
-    }
-    fn clock(&self) -> f64 {
-        self.now()
-    }
-    fn take_events(&mut self) -> Vec<ContactEvent> {
-        self.drain_events()
-    }
-    fn finish(&mut self, horizon: f64) -> Result<(), WorldError> {
-        self.advance_to(horizon)
-    }
-}
+scene_engine!(ElasticCells, PeriodicSpheres);
 
 /// How a drive to a time ended.
 enum Reached {

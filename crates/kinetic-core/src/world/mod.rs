@@ -5,6 +5,7 @@
 //! `step.rs` (the event loop and the elastic response), `walls.rs`, `validate.rs`.
 
 pub(crate) mod cells;
+mod motion;
 mod pairs;
 pub(crate) mod periodic;
 pub(crate) mod step;

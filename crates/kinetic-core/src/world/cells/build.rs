@@ -1,10 +1,11 @@
 //! Building the grid: its levels and cells for the balls given, and the balls in them.
 
 use super::{BLOCK_CELLS_PER_BALL, CELLS_MIN, CELLS_PER_BALL, LEVEL_FACTOR};
-use super::{ElasticCells, Layout, Level, Motion, NIL, Next, WIDEN};
+use super::{ElasticCells, Layout, Level, NIL, Next, WIDEN};
 use crate::math::{Real, Vec3};
 use crate::plan::FlightPlan;
 use crate::queue::EventQueue;
+use crate::world::motion::Motion;
 use crate::world::step::ZenoGuard;
 use crate::world::{Stats, Walls, WorldError};
 use rustc_hash::FxHashMap;

@@ -1,8 +1,9 @@
 //! The event loop: each ball's scheduled event in time order, and the responses.
 
-use super::{ElasticCells, Event, Motion, Next};
+use super::{ElasticCells, Event, Next};
 use crate::math::Real;
 use crate::plan::FlightPlan;
+use crate::world::motion::Motion;
 use crate::world::step::elastic_exchange;
 use crate::world::walls::bounced;
 use crate::world::{ContactEvent, ContactKind, ObjectId, WorldError};

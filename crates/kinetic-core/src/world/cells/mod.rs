@@ -37,6 +37,7 @@ mod predict;
 mod query;
 mod validate;
 
+use super::motion::Motion;
 use super::step::ZenoGuard;
 use super::walls::WallHit;
 use super::{ContactEvent, Stats, Walls};
@@ -105,32 +106,6 @@ impl Next {
     #[inline]
     fn before(&self, other: &Next) -> bool {
         (self.time, self.tie) < (other.time, other.tie)
-    }
-}
-
-/// A ball's linear motion and radius in one cache line, read for every pair the grid offers.
-#[derive(Clone, Copy, Debug)]
-#[repr(align(64))]
-struct Motion {
-    t0: Real,
-    position: Vec3,
-    velocity: Vec3,
-    radius: Real,
-}
-
-impl Motion {
-    fn of(plan: &FlightPlan, radius: Real) -> Motion {
-        Motion {
-            t0: plan.t0,
-            position: plan.position,
-            velocity: plan.velocity,
-            radius,
-        }
-    }
-
-    #[inline]
-    fn at(&self, t: Real) -> Vec3 {
-        self.position + self.velocity * (t - self.t0)
     }
 }
 

@@ -3,9 +3,10 @@
 
 use super::calendar::Calendar;
 use super::lists::{CentreGrid, Filed, Lists};
-use super::{Motion, Next, Period, PeriodicBox, PeriodicSpheres, SHELL, SLACK};
+use super::{Next, Period, PeriodicBox, PeriodicSpheres, SHELL, SLACK};
 use crate::math::{Real, Vec3};
 use crate::plan::FlightPlan;
+use crate::world::motion::Motion;
 use crate::world::step::ZenoGuard;
 use crate::world::{MAX_MAGNITUDE, Stats, WorldError};
 use rustc_hash::FxHashMap;
@@ -94,12 +95,7 @@ impl PeriodicSpheres {
             .iter()
             .map(|&e| {
                 let (r, p) = &spheres[e as usize];
-                Motion {
-                    t0: p.t0,
-                    position: p.position,
-                    velocity: p.velocity,
-                    radius: *r,
-                }
+                Motion::of(p, *r)
             })
             .collect();
         let two_kinetic = motion
@@ -141,7 +137,6 @@ impl PeriodicSpheres {
             zeno: ZenoGuard::default(),
             list_factor: shell * (1.0 + SLACK),
             event_counts: [0; 4],
-            buffer: Vec::new(),
         };
         gas.list_all();
         // The first events, then a calendar whose buckets hold a few dozen events each.
@@ -174,17 +169,17 @@ impl PeriodicSpheres {
 
     /// Lists every pair whose centres are within the list reach.
     fn list_all(&mut self) {
-        let mut around = std::mem::take(&mut self.buffer);
         let (period, factor) = (self.period, self.list_factor);
         for i in 0..self.len() as u32 {
-            around.clear();
             let me = self.filed(i);
-            self.grid.around(self.grid.cell(me.centre), &mut around);
-            for other in around.iter().filter(|o| o.id > i) {
-                list_if_near(&mut self.lists, &period, factor, &me, other);
-            }
+            let lists = &mut self.lists;
+            self.grid
+                .for_each_around(self.grid.cell(me.centre), |other| {
+                    if other.id > i {
+                        list_if_near(lists, &period, factor, &me, other);
+                    }
+                });
         }
-        self.buffer = around;
     }
 
     fn filed(&self, i: u32) -> Filed {

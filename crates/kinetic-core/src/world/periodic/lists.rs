@@ -191,19 +191,4 @@ impl CentreGrid {
             }
         }
     }
-
-    /// The centres filed in the 27 cells around `c` (with wrap-around).
-    pub(super) fn around(&self, c: [u32; 3], out: &mut Vec<Filed>) {
-        let n = self.n;
-        for dz in [n[2] - 1, 0, 1] {
-            let z = (c[2] + dz) % n[2];
-            for dy in [n[1] - 1, 0, 1] {
-                let y = (c[1] + dy) % n[1];
-                for dx in [n[0] - 1, 0, 1] {
-                    let x = (c[0] + dx) % n[0];
-                    out.extend_from_slice(&self.cells[self.index([x, y, z]) as usize]);
-                }
-            }
-        }
-    }
 }

@@ -32,6 +32,7 @@ mod lists;
 mod predict;
 mod validate;
 
+use super::motion::Motion;
 use super::step::ZenoGuard;
 use super::{ContactEvent, Stats};
 use crate::math::{Real, Vec3};
@@ -89,23 +90,6 @@ impl Next {
         kind: Kind::Idle,
         graze: false,
     };
-}
-
-/// A sphere's linear motion and radius in one cache line, read for every listed pair.
-#[derive(Clone, Copy, Debug)]
-#[repr(align(64))]
-struct Motion {
-    t0: Real,
-    position: Vec3,
-    velocity: Vec3,
-    radius: Real,
-}
-
-impl Motion {
-    #[inline]
-    fn at(&self, t: Real) -> Vec3 {
-        self.position + self.velocity * (t - self.t0)
-    }
 }
 
 /// The box's period along each axis.
@@ -189,8 +173,6 @@ pub struct PeriodicSpheres {
     list_factor: Real,
     /// Events processed: collisions, stale events, shell crossings, grazes.
     event_counts: [u64; 4],
-    /// A buffer for the spheres around a cell.
-    buffer: Vec<lists::Filed>,
 }
 
 /// Bulk figures of a periodic run: collision rate, temperature and pressure.

@@ -65,26 +65,41 @@ pub(super) fn pair_due(
             if p - q > 1e-6 * (p + q) {
                 return None;
             }
-            // A clear first contact: two roots ahead, the first taken directly, as the walk
-            // (and `quadratic_roots`, whose arithmetic this is) would report it, unless the
-            // pair has events consumed (a graze) or the root is not clearly after now. With
-            // c0 > 0 > c1 and distinct roots, the first is c0 / q.
-            if q - p > 1e-6 * (p + q) && skip.is_none() {
-                let disc = q - p;
-                let half = -0.5 * (c1 - disc.sqrt());
-                let first = c0 / half;
-                if first > 0.0 && first.is_finite() && half < c2 * Real::MAX && base + first > now {
-                    debug_assert_eq!(first, {
-                        let mut roots = [(0.0, false); 4];
-                        quadratic_roots(c0, c1, c2, &mut roots);
-                        roots[0].0
-                    });
-                    return Some((base + first, false));
-                }
+            if skip.is_none()
+                && let Some(t) = clear_first_contact(c0, c1, c2, base, now)
+            {
+                return Some((t, false));
             }
         }
     }
     walk_due(ma, mb, shift, threshold2, base, now, skip)
+}
+
+/// A clear first contact of the gap `c0 + c1 tau + c2 tau^2` around `base` (`c0 > 0 > c1`):
+/// two distinct roots ahead, the first clearly after `now`, taken directly as the walk (and
+/// `quadratic_roots`, whose arithmetic this is) would report it; `None` when it is not that
+/// clear (a clear miss included: the caller decides by the walk).
+#[inline]
+fn clear_first_contact(c0: Real, c1: Real, c2: Real, base: Real, now: Real) -> Option<Real> {
+    let (p, q) = (4.0 * c2 * c0, c1 * c1);
+    // (NaN coefficients fail this test and go to the walk.)
+    if q - p <= 1e-6 * (p + q) || (q - p).is_nan() {
+        return None;
+    }
+    // With c0 > 0 > c1 and distinct roots, the first is c0 / q.
+    let disc = q - p;
+    let half = -0.5 * (c1 - disc.sqrt());
+    let first = c0 / half;
+    if first > 0.0 && first.is_finite() && half < c2 * Real::MAX && base + first > now {
+        debug_assert_eq!(first, {
+            let mut roots = [(0.0, false); 4];
+            quadratic_roots(c0, c1, c2, &mut roots);
+            roots[0].0
+        });
+        Some(base + first)
+    } else {
+        None
+    }
 }
 
 /// The pair's next failure by the world's root walk (contact now, grazes, consumed events).
@@ -170,49 +185,81 @@ impl PeriodicSpheres {
             ..Next::IDLE
         };
         let mut best_tie = None;
+        // A pair whose first root is at least c0 / -c1 after now fails after the best so
+        // far when c0 > -c1 limit (an infinite best discards nothing).
+        let limit_of = |bound: Real| (bound - now) * (1.0 + 1e-9) + bound.abs() * 1e-15;
+        let mut limit = limit_of(best.time);
         let skips = !self.skips.is_empty();
+        let mine_now = m.t0 == now;
         for &k in self.lists.of(id) {
-            {
-                let mb = &self.motion[k as usize];
-                let d = here - mb.at(now);
-                // A listed pair is within a third of the box of its nearest image: no shift
-                // unless the difference is beyond half the box on some axis.
-                let (shift, d) = if d.abs().cmplt(self.period.half_side).all() {
-                    (Vec3::ZERO, d)
-                } else {
-                    let shift = self.period.nearest(d);
-                    (shift, d - shift)
-                };
+            let mb = &self.motion[k as usize];
+            let d = here - mb.at(now);
+            // A listed pair is within a third of the box of its nearest image: no shift
+            // unless the difference is beyond half the box on some axis.
+            let (shift, d) = if d.abs().cmplt(self.period.half_side).all() {
+                (Vec3::ZERO, d)
+            } else {
+                let shift = self.period.nearest(d);
+                (shift, d - shift)
+            };
+            let v = m.velocity - mb.velocity;
+            let (time, graze) = if (mine_now || mb.t0 == now) && !skips {
+                // Both plans started by now: the gap around now, in closed form where it is
+                // clear (as `pair_due` takes it, bit for bit).
+                let b = d.dot(v);
+                if b > 0.0 {
+                    continue; // moving apart: the gap grows
+                }
+                let reach = m.radius + mb.radius;
+                let c0 = d.dot(d) - reach * reach;
+                let c1 = 2.0 * b;
+                if c0 > 0.0 && (c1 >= 0.0 || c0 > -c1 * limit) {
+                    continue; // apart and not approaching, or failing after the best
+                }
+                let c2 = v.dot(v);
+                let (p, q) = (4.0 * c2 * c0, c1 * c1);
+                if c0 > 0.0 && p - q > 1e-6 * (p + q) {
+                    continue; // approaching, but clearly missing
+                }
+                match clear_first_contact(c0, c1, c2, now, now) {
+                    Some(t) => (t, false),
+                    None => match pair_due(&m, mb, shift, d, now, None, best.time) {
+                        Some(due) => due,
+                        None => continue,
+                    },
+                }
+            } else {
                 let skip = if skips { self.skip_of(id, k) } else { None };
-                let due = pair_due(&m, mb, shift, d, now, skip, best.time);
-                let Some((time, graze)) = due else {
-                    continue;
-                };
-                if time > best.time {
-                    continue;
+                match pair_due(&m, mb, shift, d, now, skip, best.time) {
+                    Some(due) => due,
+                    None => continue,
                 }
-                if time == best.time {
-                    // A tie: the pair with the lower key (own ids) goes first, shells last.
-                    let tie = pair_key(self.ext[i], self.ext[k as usize]);
-                    let held = *best_tie.get_or_insert_with(|| match best.kind {
-                        Kind::Pair => pair_key(self.ext[i], self.ext[best.other as usize]),
-                        _ => TIE_SHELL,
-                    });
-                    if tie >= held {
-                        continue;
-                    }
-                    best_tie = Some(tie);
-                } else {
-                    best_tie = None;
-                }
-                best = Next {
-                    time,
-                    other: k,
-                    kind: Kind::Pair,
-                    graze,
-                    ..best
-                };
+            };
+            if time > best.time {
+                continue;
             }
+            if time == best.time {
+                // A tie: the pair with the lower key (own ids) goes first, shells last.
+                let tie = pair_key(self.ext[i], self.ext[k as usize]);
+                let held = *best_tie.get_or_insert_with(|| match best.kind {
+                    Kind::Pair => pair_key(self.ext[i], self.ext[best.other as usize]),
+                    _ => TIE_SHELL,
+                });
+                if tie >= held {
+                    continue;
+                }
+                best_tie = Some(tie);
+            } else {
+                best_tie = None;
+                limit = limit_of(time);
+            }
+            best = Next {
+                time,
+                other: k,
+                kind: Kind::Pair,
+                graze,
+                ..best
+            };
         }
         if best.kind == Kind::Pair {
             best.tie = pair_key(self.ext[i], self.ext[best.other as usize]);

@@ -95,15 +95,7 @@ fn reference(cell: PeriodicBox, spheres: &[(Real, FlightPlan)], until: Real) -> 
         inv_side: Vec3::ONE / side,
         half_side: side * 0.5,
     };
-    let mut m: Vec<Motion> = spheres
-        .iter()
-        .map(|(r, p)| Motion {
-            t0: p.t0,
-            position: p.position,
-            velocity: p.velocity,
-            radius: *r,
-        })
-        .collect();
+    let mut m: Vec<Motion> = spheres.iter().map(|(r, p)| Motion::of(p, *r)).collect();
     let mut now = 0.0;
     let mut log = Vec::new();
     loop {

@@ -1,0 +1,37 @@
+//! A ball's linear motion and radius in one cache line: what the hard-sphere structures
+//! (`cells`, `periodic`) read for every pair they test.
+
+use crate::math::{Real, Vec3};
+use crate::plan::FlightPlan;
+
+/// A ball's linear motion (its plan without acceleration or spin) and radius.
+#[derive(Clone, Copy, Debug)]
+#[repr(align(64))]
+pub(crate) struct Motion {
+    /// When the motion starts.
+    pub(crate) t0: Real,
+    /// The centre at `t0`.
+    pub(crate) position: Vec3,
+    /// The constant velocity.
+    pub(crate) velocity: Vec3,
+    /// The ball's radius.
+    pub(crate) radius: Real,
+}
+
+impl Motion {
+    /// The linear part of `plan`, with `radius`.
+    pub(crate) fn of(plan: &FlightPlan, radius: Real) -> Motion {
+        Motion {
+            t0: plan.t0,
+            position: plan.position,
+            velocity: plan.velocity,
+            radius,
+        }
+    }
+
+    /// The centre at `t`, as the plan gives it when it has no acceleration, bit for bit.
+    #[inline]
+    pub(crate) fn at(&self, t: Real) -> Vec3 {
+        self.position + self.velocity * (t - self.t0)
+    }
+}
