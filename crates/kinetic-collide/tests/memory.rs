@@ -36,11 +36,13 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static ALLOCATOR: Counting = Counting;
 
-/// The heap's peak over a streamed run of a 2,000-sphere gas for about `collisions`
-/// collisions with `structure`, and the events the sink saw.
+/// The heap's peak over a streamed run of a 2,000-sphere gas (in walls, or in a periodic box
+/// for the periodic structure) for about `collisions` collisions with `structure`, and the
+/// events the sink saw.
 fn peak_of_run(collisions: f64, structure: StructureName) -> (usize, u64) {
     let scene = HardSpheres {
         collisions,
+        periodic: structure == StructureName::Periodic,
         ..HardSpheres::gas(2000)
     }
     .build()
@@ -71,7 +73,11 @@ fn peak_of_run(collisions: f64, structure: StructureName) -> (usize, u64) {
 
 #[test]
 fn a_streamed_run_holds_no_more_for_more_events() {
-    for structure in [StructureName::Cells, StructureName::Grid] {
+    for structure in [
+        StructureName::Cells,
+        StructureName::Grid,
+        StructureName::Periodic,
+    ] {
         let (short, short_events) = peak_of_run(2e4, structure);
         let (long, long_events) = peak_of_run(3e5, structure);
         assert!(

@@ -51,8 +51,11 @@ pub(super) struct Calendar {
     /// The inverse of the bucket width, and the time of bucket 0.
     inv_width: Real,
     origin: Real,
-    /// The current bucket (absolute number): the heap holds every event of buckets up to it.
+    /// The current bucket (absolute number): the heap holds every event of buckets up to it;
+    /// and its place in the ring of `buckets` lists.
     current: u64,
+    current_slot: u64,
+    buckets: u64,
     len: usize,
     listed: usize,
 }
@@ -83,13 +86,15 @@ impl Calendar {
             inv_width: 1.0 / width,
             origin,
             current: 0,
+            current_slot: 0,
+            buckets: buckets as u64,
             len: 0,
             listed: 0,
         }
     }
 
     fn buckets(&self) -> u64 {
-        (self.heads.len() - 1) as u64
+        self.buckets
     }
 
     fn entry(&self, id: u32) -> Entry {
@@ -120,7 +125,8 @@ impl Calendar {
     /// Schedules `id` at `(time, tie)`, replacing its entry.
     pub(super) fn schedule(&mut self, id: u32, time: Real, tie: u64) {
         let place = self.slots[id as usize].place;
-        if place < LISTED && (time - self.origin) * self.inv_width < (self.current + 1) as Real {
+        let bucket = (time - self.origin) * self.inv_width;
+        if place < LISTED && bucket < (self.current + 1) as Real {
             // In the heap, and staying there: move it in place.
             let s = &mut self.slots[id as usize];
             (s.time, s.tie) = (time, tie);
@@ -135,12 +141,15 @@ impl Calendar {
         s.time = time;
         s.tie = tie;
         self.len += 1;
-        let bucket = (time - self.origin) * self.inv_width;
         if bucket < (self.current + 1) as Real || time.is_nan() {
             self.heap_push(id);
-        } else if bucket < (self.current + 1 + self.buckets()) as Real {
-            let b = (bucket as u64 % self.buckets()) as u32;
-            self.link(id, b);
+        } else if bucket < (self.current + 1 + self.buckets) as Real {
+            // The ring's place of that bucket, from the current one's without a division.
+            let mut b = self.current_slot + (bucket as u64 - self.current);
+            if b >= self.buckets {
+                b -= self.buckets;
+            }
+            self.link(id, b as u32);
         } else {
             let overflow = self.buckets() as u32;
             self.link(id, overflow);
@@ -200,11 +209,13 @@ impl Calendar {
     fn refill(&mut self) {
         while self.heap.is_empty() && self.listed > 0 {
             self.current += 1;
+            self.current_slot += 1;
             let n = self.buckets();
-            if self.current.is_multiple_of(n) {
+            if self.current_slot == n {
+                self.current_slot = 0;
                 self.spill_overflow();
             }
-            let b = (self.current % n) as usize;
+            let b = self.current_slot as usize;
             let mut id = std::mem::replace(&mut self.heads[b], END);
             while id != END {
                 let next = self.slots[id as usize].next;
@@ -228,6 +239,7 @@ impl Calendar {
                     // Land on the round's start below it, so the spill sees it.
                     let at = at as u64;
                     self.current = (at - at % n).max(self.current) - 1;
+                    self.current_slot = self.current % n;
                 } else {
                     self.spill_all();
                 }

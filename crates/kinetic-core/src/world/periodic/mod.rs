@@ -111,7 +111,12 @@ impl Period {
     /// The whole periods by which `p` lies outside the box (zero inside).
     #[inline]
     fn outside(&self, p: Vec3) -> Vec3 {
-        ((p - self.min) * self.inv_side).floor() * self.side
+        let x = (p - self.min) * self.inv_side;
+        if x.cmpge(Vec3::ZERO).all() && x.cmplt(Vec3::ONE).all() {
+            Vec3::ZERO // inside: floor would give zeros, without its library call
+        } else {
+            x.floor() * self.side
+        }
     }
 }
 
