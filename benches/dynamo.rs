@@ -23,7 +23,7 @@
 use kinetic_collide::run::{StructureName, choose_structure};
 use kinetic_collide::scene::outer_radius;
 use kinetic_collide::{ContactKind, ElasticCells, Walls};
-use kinetic_collide_cli::process::peak_kb;
+use kinetic_collide_cli::process::{peak_kb, run_child};
 use kinetic_scenes::hard_spheres::HardSpheres;
 use std::fmt::Write as _;
 use std::io::Write as _;
@@ -319,13 +319,7 @@ fn dynarun(dir: &Path, work: &Path, config: &Path, count: f64) -> Result<(f64, f
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    if let Some(i) = args.iter().position(|a| a == "--child") {
-        let result = System::parse(&args[i + 1])
-            .and_then(|s| child(s, args[i + 2].parse().map_err(|e| format!("{e}"))?));
-        if let Err(e) = result {
-            eprintln!("{e}");
-            std::process::exit(1);
-        }
+    if run_child(&args, System::parse, child) {
         return;
     }
     let mut dynamo_dir: Option<PathBuf> = None;

@@ -25,7 +25,7 @@
 
 use kinetic_collide::PeriodicSpheres;
 use kinetic_collide::scene::outer_radius;
-use kinetic_collide_cli::process::{peak_kb, timed};
+use kinetic_collide_cli::process::{peak_kb, run_child, timed};
 use kinetic_scenes::hard_spheres::HardSpheres;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -259,13 +259,7 @@ impl Drop for Edmd {
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    if let Some(i) = args.iter().position(|a| a == "--child") {
-        let result = System::parse(&args[i + 1])
-            .and_then(|s| child(s, args[i + 2].parse().map_err(|e| format!("{e}"))?));
-        if let Err(e) = result {
-            eprintln!("{e}");
-            std::process::exit(1);
-        }
+    if run_child(&args, System::parse, child) {
         return;
     }
     let mut source = PathBuf::from("../shared/anchors/edmd");

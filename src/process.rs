@@ -57,3 +57,28 @@ pub fn timed(
         seconds: field("SECONDS="),
     })
 }
+
+/// A bench's child run: when `args` hold `--child SYSTEM COUNT`, runs `run` on the parsed
+/// system and count, and exits with status 1 and the message if it fails. Returns whether
+/// this was a child run (the bench's `main` then returns).
+pub fn run_child<S>(
+    args: &[String],
+    parse: impl Fn(&str) -> Result<S, String>,
+    run: impl Fn(S, f64) -> Result<(), String>,
+) -> bool {
+    let Some(i) = args.iter().position(|a| a == "--child") else {
+        return false;
+    };
+    let field = |k: usize| args.get(i + k).map(String::as_str).unwrap_or_default();
+    let result = parse(field(1)).and_then(|s| {
+        let count = field(2)
+            .parse()
+            .map_err(|e| format!("--child count: {e}"))?;
+        run(s, count)
+    });
+    if let Err(e) = result {
+        eprintln!("{e}");
+        std::process::exit(1);
+    }
+    true
+}
