@@ -4,7 +4,7 @@
 
 use super::pairs::Due;
 use super::{ContactKind, Response, World, WorldError};
-use crate::math::Real;
+use crate::math::{Real, Vec3};
 use crate::plan::FlightPlan;
 
 /// What one call to [`World::step`] processed.
@@ -219,22 +219,47 @@ pub(crate) fn elastic_exchange(
     rb: Real,
     now: Real,
 ) -> Option<(FlightPlan, FlightPlan)> {
-    let n = pa.position_at(now) - pb.position_at(now);
-    let len = n.length();
-    if len == 0.0 || !len.is_finite() {
-        return None;
+    let d = pa.position_at(now) - pb.position_at(now);
+    let e = Exchange::of(d, pa.velocity_at(now), pb.velocity_at(now), ra, rb)?;
+    Some((pa.replanned(now, e.va), pb.replanned(now, e.vb)))
+}
+
+/// An elastic exchange between two balls: their new velocities, and what the collision
+/// virial needs.
+pub(crate) struct Exchange {
+    /// Ball a's new velocity.
+    pub(crate) va: Vec3,
+    /// Ball b's new velocity.
+    pub(crate) vb: Vec3,
+    /// The distance between the centres.
+    pub(crate) distance: Real,
+    /// a's change of velocity along the line from b to a (positive): a's impulse is its
+    /// mass times this.
+    pub(crate) dv_a: Real,
+}
+
+impl Exchange {
+    /// Balls of radii `ra`, `rb` moving at `va`, `vb`, a's centre `d` from b's: momentum
+    /// exchanged along `d`, masses proportional to radius cubed; `None` unless approaching.
+    #[inline]
+    pub(crate) fn of(d: Vec3, va: Vec3, vb: Vec3, ra: Real, rb: Real) -> Option<Exchange> {
+        let len = d.length();
+        if len == 0.0 || !len.is_finite() {
+            return None;
+        }
+        let n = d / len;
+        let u = (va - vb).dot(n);
+        if u >= 0.0 {
+            return None;
+        }
+        let (ma, mb) = (ra * ra * ra, rb * rb * rb);
+        // Written with mass ratios so that radii 1e-6 next to 1e6 do not overflow.
+        let (wa, wb) = (2.0 / (1.0 + ma / mb), 2.0 / (1.0 + mb / ma));
+        Some(Exchange {
+            va: va - n * (wa * u),
+            vb: vb + n * (wb * u),
+            distance: len,
+            dv_a: -(wa * u),
+        })
     }
-    let n = n / len;
-    let (va, vb) = (pa.velocity_at(now), pb.velocity_at(now));
-    let u = (va - vb).dot(n);
-    if u >= 0.0 {
-        return None;
-    }
-    let (ma, mb) = (ra * ra * ra, rb * rb * rb);
-    // Written with mass ratios so that radii 1e-6 next to 1e6 do not overflow.
-    let (wa, wb) = (2.0 / (1.0 + ma / mb), 2.0 / (1.0 + mb / ma));
-    Some((
-        pa.replanned(now, va - n * (wa * u)),
-        pb.replanned(now, vb + n * (wb * u)),
-    ))
 }

@@ -3,6 +3,7 @@
 
 use super::{Kind, Motion, Next, Period, PeriodicSpheres};
 use crate::math::{Real, Vec3};
+use crate::world::step::Exchange;
 use crate::world::{ContactEvent, ContactKind, ObjectId, WorldError};
 
 /// Event kinds by index in `event_counts`, as the statistics name them.
@@ -18,23 +19,10 @@ pub(super) fn exchange(
     shift: Vec3,
     now: Real,
 ) -> Option<(Vec3, Vec3, Real)> {
-    let n = (ma.at(now) - mb.at(now)) - shift;
-    let len = n.length();
-    if len == 0.0 || !len.is_finite() {
-        return None;
-    }
-    let n = n / len;
-    let (va, vb) = (ma.velocity, mb.velocity);
-    let u = (va - vb).dot(n);
-    if u >= 0.0 {
-        return None;
-    }
-    let (ra, rb) = (ma.radius, mb.radius);
-    let (wa_m, wb_m) = (ra * ra * ra, rb * rb * rb);
-    // Written with mass ratios so that radii 1e-6 next to 1e6 do not overflow.
-    let (wa, wb) = (2.0 / (1.0 + wa_m / wb_m), 2.0 / (1.0 + wb_m / wa_m));
-    let mass_a = (2.0 * ra).powi(3);
-    Some((va - n * (wa * u), vb + n * (wb * u), -mass_a * wa * u * len))
+    let d = (ma.at(now) - mb.at(now)) - shift;
+    let e = Exchange::of(d, ma.velocity, mb.velocity, ma.radius, mb.radius)?;
+    let mass_a = (2.0 * ma.radius).powi(3);
+    Some((e.va, e.vb, mass_a * e.dv_a * e.distance))
 }
 
 /// `p` wrapped into the box, and the whole periods taken off it.
