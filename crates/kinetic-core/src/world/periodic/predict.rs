@@ -178,34 +178,23 @@ impl PeriodicSpheres {
         let now = self.now;
         let here = m.at(now);
         let exit = shell_exit(here, m.velocity, self.centre[i], self.shell[i]);
-        let mut best = Next {
-            time: now + exit,
-            tie: TIE_SHELL,
-            kind: Kind::Shell,
-            ..Next::IDLE
-        };
-        let mut best_tie = None;
-        // A pair whose first root is at least c0 / -c1 after now fails after the best so
-        // far when c0 > -c1 limit (an infinite best discards nothing).
-        let limit_of = |bound: Real| (bound - now) * (1.0 + 1e-9) + bound.abs() * 1e-15;
-        let mut limit = limit_of(best.time);
+        let mut best = Earliest::new(now, now + exit);
         let skips = !self.skips.is_empty();
         let mine_now = m.t0 == now;
+        let half = self.period.half_side;
         for &k in self.lists.of(id) {
             let mb = &self.motion[k as usize];
-            let d = here - mb.at(now);
+            let mut d = here - mb.at(now);
             // A listed pair is within a third of the box of its nearest image: no shift
             // unless the difference is beyond half the box on some axis.
-            let (shift, d) = if d.abs().cmplt(self.period.half_side).all() {
-                (Vec3::ZERO, d)
-            } else {
-                let shift = self.period.nearest(d);
-                (shift, d - shift)
-            };
-            let v = m.velocity - mb.velocity;
-            let (time, graze) = if (mine_now || mb.t0 == now) && !skips {
+            let wraps = !d.abs().cmplt(half).all();
+            if wraps {
+                d -= self.period.nearest(d);
+            }
+            if (mine_now || mb.t0 == now) && !skips {
                 // Both plans started by now: the gap around now, in closed form where it is
                 // clear (as `pair_due` takes it, bit for bit).
+                let v = m.velocity - mb.velocity;
                 let b = d.dot(v);
                 if b > 0.0 {
                     continue; // moving apart: the gap grows
@@ -213,7 +202,7 @@ impl PeriodicSpheres {
                 let reach = m.radius + mb.radius;
                 let c0 = d.dot(d) - reach * reach;
                 let c1 = 2.0 * b;
-                if c0 > 0.0 && (c1 >= 0.0 || c0 > -c1 * limit) {
+                if c0 > 0.0 && (c1 >= 0.0 || c0 > -c1 * best.limit) {
                     continue; // apart and not approaching, or failing after the best
                 }
                 let c2 = v.dot(v);
@@ -221,52 +210,94 @@ impl PeriodicSpheres {
                 if c0 > 0.0 && p - q > 1e-6 * (p + q) {
                     continue; // approaching, but clearly missing
                 }
-                match clear_first_contact(c0, c1, c2, now, now) {
-                    Some(t) => (t, false),
-                    None => match pair_due(&m, mb, shift, d, now, None, best.time) {
-                        Some(due) => due,
-                        None => continue,
-                    },
-                }
-            } else {
-                let skip = if skips { self.skip_of(id, k) } else { None };
-                match pair_due(&m, mb, shift, d, now, skip, best.time) {
-                    Some(due) => due,
-                    None => continue,
-                }
-            };
-            if time > best.time {
-                continue;
-            }
-            if time == best.time {
-                // A tie: the pair with the lower key (own ids) goes first, shells last.
-                let tie = pair_key(self.ext[i], self.ext[k as usize]);
-                let held = *best_tie.get_or_insert_with(|| match best.kind {
-                    Kind::Pair => pair_key(self.ext[i], self.ext[best.other as usize]),
-                    _ => TIE_SHELL,
-                });
-                if tie >= held {
+                if let Some(t) = clear_first_contact(c0, c1, c2, now, now) {
+                    best.offer(t, false, k, |o| pair_key(self.ext[i], self.ext[o as usize]));
                     continue;
                 }
-                best_tie = Some(tie);
-            } else {
-                best_tie = None;
-                limit = limit_of(time);
             }
-            best = Next {
-                time,
-                other: k,
-                kind: Kind::Pair,
-                graze,
-                ..best
+            // The general case: plans that started before now, grazes, contact now.
+            let shift = if wraps {
+                self.period.nearest(here - mb.at(now))
+            } else {
+                Vec3::ZERO
             };
+            let skip = if skips { self.skip_of(id, k) } else { None };
+            if let Some((t, graze)) = pair_due(&m, mb, shift, d, now, skip, best.next.time) {
+                best.offer(t, graze, k, |o| pair_key(self.ext[i], self.ext[o as usize]));
+            }
         }
-        if best.kind == Kind::Pair {
-            best.tie = pair_key(self.ext[i], self.ext[best.other as usize]);
-            best.counter = self.counter[best.other as usize];
+        let mut next = best.next;
+        if next.kind == Kind::Pair {
+            next.tie = pair_key(self.ext[i], self.ext[next.other as usize]);
+            next.counter = self.counter[next.other as usize];
         }
-        self.next[i] = best;
-        self.queue.schedule(id, best.time, best.tie);
+        self.next[i] = next;
+        self.queue.schedule(id, next.time, next.tie);
+    }
+}
+
+/// The earliest event found so far while predicting: the shell crossing or a pair, its tie
+/// key once a tie has asked for it, and the bound that turns later pairs away.
+struct Earliest {
+    next: Next,
+    tie: Option<u64>,
+    now: Real,
+    /// A pair whose first root is at least c0 / -c1 after now fails after the earliest when
+    /// c0 > -c1 limit (an infinite time turns nothing away).
+    limit: Real,
+}
+
+impl Earliest {
+    fn new(now: Real, shell: Real) -> Earliest {
+        let next = Next {
+            time: shell,
+            tie: TIE_SHELL,
+            kind: Kind::Shell,
+            ..Next::IDLE
+        };
+        Earliest {
+            next,
+            tie: None,
+            now,
+            limit: Self::limit_of(now, shell),
+        }
+    }
+
+    #[inline]
+    fn limit_of(now: Real, time: Real) -> Real {
+        (time - now) * (1.0 + 1e-9) + time.abs() * 1e-15
+    }
+
+    /// Keeps the pair with `other` failing at `time` if it comes first: earlier, or at the
+    /// same time with a lower key (`key_of(other)`, asked only on a tie; shells go last).
+    #[inline]
+    fn offer(&mut self, time: Real, graze: bool, other: u32, key_of: impl Fn(u32) -> u64) {
+        if time > self.next.time {
+            return;
+        }
+        if time == self.next.time {
+            let held = match (self.tie, self.next.kind) {
+                (Some(t), _) => t,
+                (None, Kind::Pair) => key_of(self.next.other),
+                (None, _) => TIE_SHELL,
+            };
+            let tie = key_of(other);
+            if tie >= held {
+                self.tie = Some(held);
+                return;
+            }
+            self.tie = Some(tie);
+        } else {
+            self.tie = None;
+            self.limit = Self::limit_of(self.now, time);
+        }
+        self.next = Next {
+            time,
+            other,
+            kind: Kind::Pair,
+            graze,
+            ..self.next
+        };
     }
 }
 
