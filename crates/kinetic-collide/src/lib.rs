@@ -92,7 +92,8 @@ pub use kinetic_render as render;
 pub mod kds {
     pub use kinetic_core::kds::*;
     pub use kinetic_flight::{
-        Choice, Cone, ConeSet, GuardGrid, RHO_MAX, SIGMA_MAX, choose, fatness, guard_fatness,
-        scale_factor,
+        Choice, Cone, ConeSet, GRID_SPREAD, GuardGrid, LOOSE_SPREAD, RHO_MAX, SIGMA_MAX,
+        SIZES_ALIKE, fatness, for_flights, for_steps, guard_fatness, paper_choice, scale_factor,
+        spread,
     };
 }

@@ -8,7 +8,7 @@ use kinetic_core::{
     BruteForce, CandidateStructure, ElasticCells, FlightPlan, PeriodicBox, Response, Shape, Walls,
     World, WorldKind,
 };
-use kinetic_flight::{ConvexShape, Grid, Guards, LooseGrid, Sweep};
+use kinetic_flight::{Choice, ConvexShape, Grid, Guards, LooseGrid, Sweep};
 use kinetic_rolling::{ListLayout, RollingTree};
 
 /// The kinetic structures, by their command-line names.
@@ -42,10 +42,10 @@ impl StructureName {
     pub const ALL: [(&'static str, StructureName); 9] = [
         ("rolling-tree", StructureName::RollingTree),
         ("rolling-global-lists", StructureName::RollingGlobalLists),
-        ("sweep", StructureName::Sweep),
-        ("guards", StructureName::Guards),
-        ("grid", StructureName::Grid),
-        ("loose-grid", StructureName::LooseGrid),
+        (Choice::Sweep.name(), StructureName::Sweep),
+        (Choice::Guards.name(), StructureName::Guards),
+        (Choice::Grid.name(), StructureName::Grid),
+        (Choice::Loose.name(), StructureName::LooseGrid),
         ("cells", StructureName::Cells),
         ("periodic", StructureName::Periodic),
         ("brute-force", StructureName::BruteForce),
@@ -92,30 +92,28 @@ impl StructureName {
     }
 }
 
-/// Sizes (outer radii) spread by at most this factor: the loose grid.
-pub const LOOSE_SPREAD: f64 = 50.0;
-/// Sizes spread by at most this factor (and more than [`LOOSE_SPREAD`]): the hierarchical
-/// grid; beyond it, the sweep.
-pub const GRID_SPREAD: f64 = 300.0;
+impl From<Choice> for StructureName {
+    fn from(c: Choice) -> StructureName {
+        match c {
+            Choice::Sweep => StructureName::Sweep,
+            Choice::Guards => StructureName::Guards,
+            Choice::Grid => StructureName::Grid,
+            Choice::Loose => StructureName::LooseGrid,
+        }
+    }
+}
 
 /// The structure a scene gets when none is named: the one measured fastest for scenes like
 /// it on the choice family (`cargo bench --bench choice`, `docs/results/choice.md`), which is
-/// not always the one the paper's theorems favour. By the spread of sizes (largest over
-/// smallest outer radius):
+/// not always the one the paper's theorems favour.
 ///
 /// A periodic box gets the periodic structure ([`crate::PeriodicSpheres`]), the only one
-/// that wraps. Otherwise:
-///
-/// 1. elastic balls moving linearly inside walls: the cell grid ([`ElasticCells`]), one
-///    scheduled event per ball, when it fits their sizes;
-/// 2. sizes within [`LOOSE_SPREAD`]: the loose grid ([`LooseGrid`]), one certificate per
-///    object (its cells fit every region);
-/// 3. sizes within [`GRID_SPREAD`]: the hierarchical grid ([`Grid`]), exact box pairs level
-///    by level;
-/// 4. a wider spread: the sweep ([`Sweep`]), whose sorted lists do not care about sizes.
-///
-/// Plane worlds are held by the same box structures (a rolling ball's disc holds its
-/// contacts). The paper's other structures (rolling tree, guards) stay selectable by name.
+/// that wraps. Elastic balls moving linearly inside walls get the cell grid
+/// ([`ElasticCells`]), one scheduled event per ball, when it fits their sizes. Every other
+/// scene gets the flight structure of [`kinetic_flight::for_flights`] for the spread of its
+/// sizes (largest over smallest outer radius): the loose grid, the grid or the sweep. Plane
+/// worlds are held by the same box structures (a rolling ball's disc holds its contacts).
+/// The paper's other structures (rolling tree, guards) stay selectable by name.
 pub fn choose_structure(scene: &Scene) -> StructureName {
     if scene.periodic.is_some() {
         return StructureName::Periodic;
@@ -123,14 +121,7 @@ pub fn choose_structure(scene: &Scene) -> StructureName {
     if cell_balls(scene).is_some() {
         return StructureName::Cells;
     }
-    let spread = scene.size_ratio();
-    if spread <= LOOSE_SPREAD {
-        StructureName::LooseGrid
-    } else if spread <= GRID_SPREAD {
-        StructureName::Grid
-    } else {
-        StructureName::Sweep
-    }
+    kinetic_flight::for_flights(scene.size_ratio()).into()
 }
 
 /// The walls and balls of a scene that the cell grid holds: elastic, free, walls, balls only,

@@ -1,10 +1,18 @@
 //! Choosing the structure for a set of free-flying objects ("model no more than a scene
-//! needs"): the sweep while sizes are similar, guards when they are not.
+//! needs"): the one home of the flight structures' names and of the rules that pick among
+//! them, measured rather than taken from the paper's theorems (the sweep's and the guards'
+//! bounds are worst cases; on the scenes people run, the grids are faster).
+//!
+//! - [`for_flights`]: exact event simulation over a horizon (the command-line tool, the
+//!   library's default world): by the spread of sizes, the loose grid, the grid or the sweep.
+//! - [`for_steps`]: a stepping engine that re-plans its bodies every few steps (the rapier
+//!   adapter): the loose grid for alike sizes, the grid otherwise.
 
 use crate::shape::fatness;
 use kinetic_core::{Real, Shape};
 
-/// The largest scale factor (ratio of inner radii) for which the sweep is chosen.
+/// The scale factor (ratio of inner radii) up to which the paper's Theorem 6 bounds the
+/// sweep's candidates; beyond it, the paper uses guards.
 pub const SIGMA_MAX: Real = 8.0;
 
 /// The largest fatness the guard grids are built for: objects fatter than this (or than the
@@ -13,8 +21,18 @@ pub const SIGMA_MAX: Real = 8.0;
 /// 44 planes per axis.
 pub const RHO_MAX: Real = 4.0;
 
+/// Sizes (outer radii, largest over smallest) spread by at most this factor: the loose grid,
+/// in [`for_flights`].
+pub const LOOSE_SPREAD: Real = 50.0;
+/// Sizes spread by at most this factor (and more than [`LOOSE_SPREAD`]): the hierarchical
+/// grid; beyond it, the sweep, in [`for_flights`].
+pub const GRID_SPREAD: Real = 300.0;
+/// Moving bodies whose radii (the middle 98%) are within this factor get the loose grid, in
+/// [`for_steps`].
+pub const SIZES_ALIKE: Real = 8.0;
+
 /// A structure for free-flying objects.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Choice {
     /// [`crate::Sweep`].
     Sweep,
@@ -26,17 +44,84 @@ pub enum Choice {
     Loose,
 }
 
-/// The scale factor sigma: largest over smallest inner radius (1 for fewer than two objects;
-/// objects whose centre is not inside them are left out).
-pub fn scale_factor<'a>(shapes: impl IntoIterator<Item = &'a Shape>) -> Real {
-    let (lo, hi) = shapes
+impl Choice {
+    /// Every flight structure.
+    pub const ALL: [Choice; 4] = [Choice::Sweep, Choice::Guards, Choice::Grid, Choice::Loose];
+
+    /// Its name, on the command line and in statistics (its structure's
+    /// [`kinetic_core::CandidateStructure::name`]).
+    pub const fn name(self) -> &'static str {
+        match self {
+            Choice::Sweep => "sweep",
+            Choice::Guards => "guards",
+            Choice::Grid => "grid",
+            Choice::Loose => "loose-grid",
+        }
+    }
+
+    /// The structure by its name.
+    pub fn from_name(name: &str) -> Option<Choice> {
+        Choice::ALL.into_iter().find(|c| c.name() == name)
+    }
+}
+
+/// The spread of `radii` (largest over smallest positive one; 1 for none).
+pub fn spread(radii: impl IntoIterator<Item = Real>) -> Real {
+    let (lo, hi) = radii
         .into_iter()
-        .map(Shape::inner_radius)
         .filter(|&r| r > 0.0)
         .fold((Real::INFINITY, 0.0 as Real), |(lo, hi), r| {
             (lo.min(r), hi.max(r))
         });
     if hi > 0.0 { hi / lo } else { 1.0 }
+}
+
+/// The structure for an exact event simulation of objects whose outer radii spread by
+/// `spread` (see [`spread`]), measured fastest on the choice family
+/// (`docs/results/choice.md`):
+///
+/// 1. within [`LOOSE_SPREAD`]: the loose grid, one certificate per object (its cells fit
+///    every region);
+/// 2. within [`GRID_SPREAD`]: the hierarchical grid, exact box pairs level by level;
+/// 3. a wider spread: the sweep, whose sorted lists do not care about sizes.
+///
+/// The guards are never picked: on every scene measured, one of the three is faster.
+pub fn for_flights(spread: Real) -> Choice {
+    if spread <= LOOSE_SPREAD {
+        Choice::Loose
+    } else if spread <= GRID_SPREAD {
+        Choice::Grid
+    } else {
+        Choice::Sweep
+    }
+}
+
+/// The structure for a stepping engine's moving bodies of outer radii `radii`: the loose grid
+/// when the middle 98% are within [`SIZES_ALIKE`] (a rain, a pile: bodies re-planned every
+/// few steps keep their regions), the grid otherwise (a debris field, where small pieces
+/// drift as fast as large ones and would leave regions sized by their own width every few
+/// steps), and the grid for none.
+pub fn for_steps(radii: impl IntoIterator<Item = Real>) -> Choice {
+    let mut r: Vec<Real> = radii
+        .into_iter()
+        .filter(|r| *r > 0.0 && r.is_finite())
+        .collect();
+    if r.is_empty() {
+        return Choice::Grid;
+    }
+    r.sort_unstable_by(Real::total_cmp);
+    let pick = |q: Real| r[((r.len() - 1) as Real * q).round() as usize];
+    if pick(0.99) <= SIZES_ALIKE * pick(0.01) {
+        Choice::Loose
+    } else {
+        Choice::Grid
+    }
+}
+
+/// The scale factor sigma: largest over smallest inner radius (1 for fewer than two objects;
+/// objects whose centre is not inside them are left out).
+pub fn scale_factor<'a>(shapes: impl IntoIterator<Item = &'a Shape>) -> Real {
+    spread(shapes.into_iter().map(Shape::inner_radius))
 }
 
 /// The fatness the guard grids should be built for: the fattest object's, at most
@@ -49,11 +134,47 @@ pub fn guard_fatness<'a>(shapes: impl IntoIterator<Item = &'a Shape>) -> Real {
         .fold(1.0, Real::max)
 }
 
-/// The sweep when the scale factor is at most [`SIGMA_MAX`], guards otherwise.
-pub fn choose<'a>(shapes: impl IntoIterator<Item = &'a Shape>) -> Choice {
+/// The paper's rule: the sweep when the scale factor is at most [`SIGMA_MAX`], guards
+/// otherwise (what Theorems 6 and 10 favour; slower than [`for_flights`] on real scenes).
+pub fn paper_choice<'a>(shapes: impl IntoIterator<Item = &'a Shape>) -> Choice {
     if scale_factor(shapes) <= SIGMA_MAX {
         Choice::Sweep
     } else {
         Choice::Guards
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip_and_differ() {
+        for c in Choice::ALL {
+            assert_eq!(Choice::from_name(c.name()), Some(c));
+        }
+        assert_eq!(Choice::from_name("loose"), None);
+    }
+
+    #[test]
+    fn flights_by_spread() {
+        assert_eq!(spread([]), 1.0);
+        assert_eq!(spread([2.0, 0.0, 0.5]), 4.0);
+        assert_eq!(for_flights(1.0), Choice::Loose);
+        assert_eq!(for_flights(LOOSE_SPREAD), Choice::Loose);
+        assert_eq!(for_flights(LOOSE_SPREAD * 1.01), Choice::Grid);
+        assert_eq!(for_flights(GRID_SPREAD * 1.01), Choice::Sweep);
+    }
+
+    #[test]
+    fn steps_by_middle_sizes() {
+        assert_eq!(for_steps([]), Choice::Grid);
+        assert_eq!(for_steps([1.0; 50]), Choice::Loose);
+        // One boulder among pebbles is outside the middle 98%.
+        let mut r = vec![1.0; 200];
+        r.push(1000.0);
+        assert_eq!(for_steps(r.iter().copied()), Choice::Loose);
+        let spread_wide: Vec<Real> = (0..200).map(|i| 1.0 + i as Real).collect();
+        assert_eq!(for_steps(spread_wide), Choice::Grid);
     }
 }

@@ -23,7 +23,8 @@
 //!   a while on its plan (one certificate per object, its exit time); candidates are the
 //!   objects whose regions overlap, a superset of the sweep's. A re-plan that stays inside
 //!   the region costs one root computation, so it suits bodies whose plans keep failing.
-//! - [`choose`]: the sweep when inner radii differ by at most [`SIGMA_MAX`], guards otherwise.
+//! - [`Choice`]: every flight structure by name, and the measured rules that pick among them
+//!   ([`for_flights`] for exact event simulation, [`for_steps`] for a stepping engine).
 //!
 //! ```
 //! use kinetic_core::{ContactKind, FlightPlan, Response, Vec3, World, WorldKind};
@@ -55,7 +56,10 @@ mod loose;
 mod shape;
 mod sweep;
 
-pub use choose::{Choice, RHO_MAX, SIGMA_MAX, choose, guard_fatness, scale_factor};
+pub use choose::{
+    Choice, GRID_SPREAD, LOOSE_SPREAD, RHO_MAX, SIGMA_MAX, SIZES_ALIKE, for_flights, for_steps,
+    guard_fatness, paper_choice, scale_factor, spread,
+};
 pub use cones::{Cone, ConeSet};
 pub use grid::Grid;
 pub use guards::{GuardGrid, Guards};

@@ -132,7 +132,7 @@ impl Sweep {
 
 impl CandidateStructure for Sweep {
     fn name(&self) -> &'static str {
-        "sweep"
+        crate::Choice::Sweep.name()
     }
 
     fn insert(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>) {

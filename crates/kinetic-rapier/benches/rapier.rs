@@ -93,12 +93,10 @@ fn median<T>(mut runs: Vec<(Row, T)>) -> (Row, T) {
 
 /// The kinetic broad phase, with the structure `KINETIC_STRUCTURE` names if any.
 fn kinetic() -> KineticBroadPhase {
-    match std::env::var("KINETIC_STRUCTURE").as_deref() {
-        Ok("grid") => KineticBroadPhase::default().with_structure(Choice::Grid),
-        Ok("sweep") => KineticBroadPhase::default().with_structure(Choice::Sweep),
-        Ok("guards") => KineticBroadPhase::default().with_structure(Choice::Guards),
-        Ok("loose") => KineticBroadPhase::default().with_structure(Choice::Loose),
-        _ => KineticBroadPhase::default(),
+    let named = std::env::var("KINETIC_STRUCTURE").ok();
+    match named.as_deref().and_then(Choice::from_name) {
+        Some(choice) => KineticBroadPhase::default().with_structure(choice),
+        None => KineticBroadPhase::default(),
     }
 }
 

@@ -130,11 +130,7 @@ pub type Result<T> = std::result::Result<T, SceneError>;
 impl Scene {
     /// The largest ratio between two objects' outer radii (1 for fewer than two objects).
     pub fn size_ratio(&self) -> f64 {
-        let radii = self.objects.iter().map(|o| outer_radius(&o.shape));
-        let (lo, hi) = radii.fold((f64::INFINITY, 0.0f64), |(lo, hi), r| {
-            (lo.min(r), hi.max(r))
-        });
-        if self.objects.len() < 2 { 1.0 } else { hi / lo }
+        kinetic_flight::spread(self.objects.iter().map(|o| outer_radius(&o.shape)))
     }
 }
 

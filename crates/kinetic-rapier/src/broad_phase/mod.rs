@@ -37,9 +37,6 @@ const MAX_GROWTH: u32 = 3;
 /// ... and halved at a re-plan that comes at least this many updates after the last.
 const CALM_UPDATES: u64 = 60;
 
-/// Moving colliders whose radii (the middle 98%) are within this factor get the loose grid.
-const SIZES_ALIKE: Real = 8.0;
-
 /// The loose grid's regions cover at most this many steps of a body's flight: a body
 /// coasting slowly in a pile holds a region hugging its box, not one stretched over two box
 /// widths of its drift (at the end of the rain at 1e4: 23 candidates per body, not 62).

@@ -2,7 +2,7 @@
 //! the first ones.
 
 use super::{KineticBroadPhase, Proxy};
-use super::{REGION_STEPS, SIZES_ALIKE};
+use super::REGION_STEPS;
 use crate::proxy::Hold;
 use kinetic_core::{Body, FlightPlan, Real, Shape};
 use kinetic_flight::{Choice, ConvexShape, Grid, Guards, LooseGrid, Sweep};
@@ -229,26 +229,11 @@ impl KineticBroadPhase {
     }
 }
 
-/// The structure for the first colliders `holds`: the loose grid when the moving ones are of
-/// alike sizes (the middle 98% of their radii within a factor [`SIZES_ALIKE`]: a rain, a
-/// pile), the grid otherwise (a debris field, where small pieces drift as fast as large ones
-/// and would leave regions sized by their own width every few steps).
+/// The structure for the first colliders `holds`, by the registry's rule for stepping
+/// engines ([`kinetic_flight::for_steps`]) over the moving ones' radii.
 fn pick_structure(holds: &[(ColliderHandle, Hold)]) -> Choice {
-    let mut r: Vec<Real> = holds
-        .iter()
-        .filter_map(|(_, h)| match *h {
-            Hold::Moving { radius, .. } if radius > 0.0 && radius.is_finite() => Some(radius),
-            _ => None,
-        })
-        .collect();
-    if r.is_empty() {
-        return Choice::Grid;
-    }
-    r.sort_unstable_by(Real::total_cmp);
-    let pick = |q: Real| r[((r.len() - 1) as Real * q).round() as usize];
-    if pick(0.99) <= SIZES_ALIKE * pick(0.01) {
-        Choice::Loose
-    } else {
-        Choice::Grid
-    }
+    kinetic_flight::for_steps(holds.iter().filter_map(|(_, h)| match *h {
+        Hold::Moving { radius, .. } => Some(radius),
+        _ => None,
+    }))
 }
