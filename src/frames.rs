@@ -254,7 +254,7 @@ pub fn run_with_snapshots_streamed(
     let painter = Painter::new(scene, spec.overlay);
     let mut snapshots = Vec::with_capacity(spec.count);
     let times = frame_times(scene.horizon, spec.count);
-    let mut sample = |world: &World, begun: &[bool]| {
+    let mut sample = |world: &kinetic_collide::World, begun: &[bool]| {
         let mut contact = begun.to_vec();
         contact.resize(world.bodies().len(), false);
         for (a, b) in world.touching_pairs() {

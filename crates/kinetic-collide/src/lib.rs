@@ -62,16 +62,18 @@
 pub mod run;
 pub mod scene;
 pub mod structures;
+mod world;
 
 pub use kinetic_core::{
     Body, BruteForce, Bulk, CandidateStructure, ContactEvent, ContactKind, ElasticCells,
     FlightPlan, MAX_MAGNITUDE, ObjectId, PeriodicBox, PeriodicSpheres, Quat, Real, Response, Shape,
-    Stats, StepKind, Vec3, Walls, World, WorldError, WorldKind,
+    Stats, StepKind, Vec3, Walls, WorldError, WorldKind,
 };
-pub use kinetic_flight::{ConvexShape, Grid, Guards, LooseGrid, ShapeError, Sweep};
+pub use kinetic_flight::{Auto, ConvexShape, Grid, Guards, LooseGrid, ShapeError, Sweep};
 pub use kinetic_rolling::{ListLayout, RollingTree};
 pub use run::{RunError, RunOutput, StructureName};
 pub use scene::{Scene, SceneError};
+pub use world::World;
 
 /// The vector and quaternion crate of the kinetic math (f64), as its types appear here.
 pub use glam;
@@ -90,6 +92,9 @@ pub use kinetic_render as render;
 /// event queue, polynomials and their roots, certificates, kinetic sorted lists, geometry,
 /// and the cones and choice rules of the flight structures.
 pub mod kds {
+    /// The simulator under [`crate::World`] (`kinetic_core::World`): any candidate structure,
+    /// the brute force by default.
+    pub use kinetic_core::World as Simulator;
     pub use kinetic_core::kds::*;
     pub use kinetic_flight::{
         Choice, Cone, ConeSet, GRID_SPREAD, GuardGrid, LOOSE_SPREAD, RHO_MAX, SIGMA_MAX,

@@ -2,11 +2,12 @@
 //! processed to the horizon and handed to a sink in batches that end between instants, and
 //! the event log and statistics written exactly as the scene format says.
 
+use crate::World;
 use crate::scene::Scene;
 pub use crate::structures::{StructureName, build_world, cells_hold, choose_structure, shapes_of};
 use crate::structures::{cell_balls, periodic_balls};
 use kinetic_core::{
-    Bulk, ContactEvent, ContactKind, ElasticCells, PeriodicSpheres, Stats, World, WorldError,
+    Bulk, ContactEvent, ContactKind, ElasticCells, PeriodicSpheres, Stats, WorldError,
 };
 use std::cell::RefCell;
 use std::fmt::Write as _;

@@ -2,11 +2,12 @@
 //! applies to and how it is made, and the default's choice among them for a scene. The
 //! command-line tool, `compare`, the library's scene runner and the benches all go through it.
 
+use crate::World;
 use crate::run::RunError;
 use crate::scene::{Scene, ShapeSpec};
 use kinetic_core::{
     BruteForce, CandidateStructure, ElasticCells, FlightPlan, PeriodicBox, Response, Shape, Walls,
-    World, WorldKind,
+    WorldKind,
 };
 use kinetic_flight::{Choice, ConvexShape, Grid, Guards, LooseGrid, Sweep};
 use kinetic_rolling::{ListLayout, RollingTree};

@@ -17,6 +17,7 @@ fn the_world_and_every_structure_are_send_and_sync() {
     send_sync::<Guards>();
     send_sync::<Grid>();
     send_sync::<LooseGrid>();
+    send_sync::<kinetic_collide::Auto>();
     send_sync::<RollingTree>();
     send_sync::<kinetic_collide::ElasticCells>();
     // And it runs on another thread.
@@ -29,6 +30,35 @@ fn the_world_and_every_structure_are_send_and_sync() {
         world.now()
     });
     assert_eq!(handle.join().unwrap(), 1.0);
+}
+
+/// `World::new` gets the fast structure for what it holds, not the brute force, and reads
+/// as a user writes it (`world.advance_to(world.now() + dt)`).
+#[test]
+fn the_default_world_picks_its_structure_by_the_sizes_it_holds() {
+    let mut world = World::new(WorldKind::Free);
+    assert_eq!(world.structure_name(), "loose-grid");
+    for k in 0..50 {
+        let p = Vec3::new(3.0 * k as f64, 0.0, 0.0);
+        world.add_ball(1.0, FlightPlan::linear(p, Vec3::X)).unwrap();
+    }
+    world.advance_to(world.now() + 1.0).unwrap();
+    assert_eq!(world.structure_name(), "loose-grid");
+    assert!(
+        world.certificates() < 200,
+        "{} certificates",
+        world.certificates()
+    );
+    // A boulder 100 times larger: the grid.
+    world
+        .add_ball(100.0, FlightPlan::at_rest(Vec3::new(0.0, 500.0, 0.0)))
+        .unwrap();
+    assert_eq!(world.structure_name(), "grid");
+    world.advance_to(world.now() + 1.0).unwrap();
+    world.validate().unwrap();
+    // The simulator without the flight crate keeps the brute force.
+    let core = kinetic_collide::kds::Simulator::new(WorldKind::Free);
+    assert_eq!(core.structure_name(), "brute-force");
 }
 
 /// A shape error becomes a world error with `?`.

@@ -1,8 +1,8 @@
 //! The default choice on the choice family: it always names a structure that applies to the
 //! scene, follows the documented rule, and gives the brute force's contacts.
 
-use kinetic_collide::run::{StructureName, choose_structure, run_scene};
 use kinetic_collide::kds::{GRID_SPREAD, LOOSE_SPREAD};
+use kinetic_collide::run::{StructureName, choose_structure, run_scene};
 use kinetic_scenes::audit::assert_same_contacts;
 use kinetic_scenes::choice::{KINDS, choice_family};
 

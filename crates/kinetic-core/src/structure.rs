@@ -20,6 +20,14 @@ pub struct PairChange {
     pub delta: i32,
 }
 
+/// Orders `changes` so that every addition comes before every removal, each kind in the
+/// order it was made: a structure that re-files objects in one go (a teleport, a switch to
+/// another structure) reports its new pairs before it lets the old ones go, so that a pair
+/// both need, in contact perhaps, never drops to no holder for an instant.
+pub fn additions_first(changes: &mut [PairChange]) {
+    changes.sort_by_key(|c| std::cmp::Reverse(c.delta));
+}
+
 /// The live objects, by id: `bodies[id]` is `None` for ids not (or no longer) in the world.
 pub type Bodies = [Option<Body>];
 

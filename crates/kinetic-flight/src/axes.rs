@@ -69,8 +69,32 @@ impl AxisLists {
         }
     }
 
-    /// New keys from now on (a re-plan). An item now out of place (a teleport) fails its
-    /// certificates at once and moves by ordinary swaps.
+    /// Whether `items`, keyed anew, are still in order among their neighbours at `now` (a
+    /// re-plan that starts where the old plan is); not after a teleport, or a spin started or
+    /// stopped, which moves a box at once.
+    pub(crate) fn keeps_order(&self, items: &AxisItems, now: Real) -> bool {
+        (0..3).all(|axis| {
+            let list = &self.lists[axis];
+            let value = |item: u32| {
+                let own = items
+                    .iter()
+                    .find(|it| it[axis].0 == item)
+                    .map(|it| &it[axis].1);
+                own.or_else(|| list.key(item)).map(|k| k.value_at(now))
+            };
+            items.iter().all(|it| {
+                let item = it[axis].0;
+                let i = self.position(axis, item);
+                let v = value(item);
+                let before = i.checked_sub(1).map(|j| list.order()[j]);
+                let after = list.order().get(i + 1).copied();
+                before.is_none_or(|b| value(b) <= v) && after.is_none_or(|a| v <= value(a))
+            })
+        })
+    }
+
+    /// New keys from now on (a re-plan whose items stay in order now; an item out of place
+    /// would fail its certificates at once and move by swaps, one event each).
     pub(crate) fn set_keys(&mut self, items: AxisItems) {
         for it in items {
             for (axis, (item, key)) in it.into_iter().enumerate() {

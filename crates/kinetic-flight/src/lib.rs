@@ -23,6 +23,8 @@
 //!   a while on its plan (one certificate per object, its exit time); candidates are the
 //!   objects whose regions overlap, a superset of the sweep's. A re-plan that stays inside
 //!   the region costs one root computation, so it suits bodies whose plans keep failing.
+//! - [`Auto`]: the structure [`for_flights`] picks for the objects held so far, re-picked when
+//!   their sizes spread past its bounds (the library's default world).
 //! - [`Choice`]: every flight structure by name, and the measured rules that pick among them
 //!   ([`for_flights`] for exact event simulation, [`for_steps`] for a stepping engine).
 //!
@@ -46,6 +48,7 @@
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
+mod auto;
 mod axes;
 mod cell_math;
 mod choose;
@@ -56,6 +59,7 @@ mod loose;
 mod shape;
 mod sweep;
 
+pub use auto::Auto;
 pub use choose::{
     Choice, GRID_SPREAD, LOOSE_SPREAD, RHO_MAX, SIGMA_MAX, SIZES_ALIKE, for_flights, for_steps,
     guard_fatness, paper_choice, scale_factor, spread,

@@ -103,6 +103,24 @@ impl Sweep {
         }
     }
 
+    /// The objects whose boxes overlap `id`'s, read from the lists' orders: those whose
+    /// lower x end is before its upper x end and whose upper x end is after its lower x end,
+    /// and that overlap it on y and z.
+    fn overlapping(&self, id: u32) -> Vec<u32> {
+        let x = self.lists.list(0);
+        let (lo_x, hi_x) = (
+            self.lists.position(0, lower(id)),
+            self.lists.position(0, upper(id)),
+        );
+        x.order()[..hi_x]
+            .iter()
+            .filter(|&&item| item % 2 == 0 && item / 2 != id)
+            .map(|&item| item / 2)
+            .filter(|&o| self.lists.position(0, upper(o)) > lo_x)
+            .filter(|&o| self.overlap_on(1, id, o) && self.overlap_on(2, id, o))
+            .collect()
+    }
+
     /// Every overlapping pair among `ids`' boxes and the others, by a sweep along x.
     fn overlapping_pairs(&self) -> Vec<(u32, u32)> {
         let mut out = Vec::new();
@@ -141,21 +159,7 @@ impl CandidateStructure for Sweep {
         let ends = box_ends(bodies, id);
         self.ends[id as usize] = Some(ends);
         self.lists.insert(items(bodies, id, ends));
-        // The boxes it overlaps: those whose lower x end is before its upper x end and whose
-        // upper x end is after its lower x end.
-        let x = self.lists.list(0);
-        let (lo_x, hi_x) = (
-            self.lists.position(0, lower(id)),
-            self.lists.position(0, upper(id)),
-        );
-        let found: Vec<u32> = x.order()[..hi_x]
-            .iter()
-            .filter(|&&item| item % 2 == 0 && item / 2 != id)
-            .map(|&item| item / 2)
-            .filter(|&o| self.lists.position(0, upper(o)) > lo_x)
-            .filter(|&o| self.overlap_on(1, id, o) && self.overlap_on(2, id, o))
-            .collect();
-        for o in found {
+        for o in self.overlapping(id) {
             self.link(id, o, changes);
         }
     }
@@ -199,7 +203,7 @@ impl CandidateStructure for Sweep {
         self.lists.remove(items(bodies, id, ends));
     }
 
-    fn replan(&mut self, id: u32, bodies: &Bodies, now: Real, _: &mut Vec<PairChange>) {
+    fn replan(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>) {
         if !self.present(id) {
             return;
         }
@@ -207,7 +211,27 @@ impl CandidateStructure for Sweep {
         // A new plan may start or stop a spin, which changes the box.
         let ends = box_ends(bodies, id);
         self.ends[id as usize] = Some(ends);
-        self.lists.set_keys(items(bodies, id, ends));
+        let new = items(bodies, id, ends);
+        if self.lists.keeps_order(&new, now) {
+            self.lists.set_keys(new);
+            return;
+        }
+        // The box jumped: it is filed afresh where it is now, and its pairs change at once
+        // (the new ones first, so that a pair in contact never drops to no holder).
+        let old = self.partners[id as usize].clone();
+        self.lists.remove(new.clone());
+        self.lists.insert(new);
+        let now_overlapping = self.overlapping(id);
+        for &o in &now_overlapping {
+            if !old.contains(&o) {
+                self.link(id, o, changes);
+            }
+        }
+        for o in old {
+            if !now_overlapping.contains(&o) {
+                self.unlink(id, o, changes);
+            }
+        }
     }
 
     fn next_event_time(&self) -> Real {

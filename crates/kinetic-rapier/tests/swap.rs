@@ -386,7 +386,11 @@ fn a_shot_at_any_speed_costs_the_structure_an_event_a_step_and_meets_the_row_in_
                 assert_eq!(held, row.len(), "speed {speed}");
             }
         }
-        let want = if choice.is_some() { "grid" } else { "loose-grid" };
+        let want = if choice.is_some() {
+            "grid"
+        } else {
+            "loose-grid"
+        };
         assert_eq!(sim.bp.inner.structure_name(), want);
     }
 }

@@ -11,7 +11,7 @@ pub(crate) mod queue;
 pub mod roots;
 pub(crate) mod sorted_list;
 
-pub use crate::structure::{Bodies, PairChange};
+pub use crate::structure::{Bodies, PairChange, additions_first};
 pub use crate::world::PairCertificate;
 pub use certificates::{OrderCertificate, ScalarKey};
 pub use geometry::{ConvexGeometry, Pose, signed_distance};

@@ -80,8 +80,18 @@ impl CandidateStructure for Guards {
             return;
         }
         self.sync(now);
-        self.lists.set_keys(self.items(bodies, id));
-        // Its watches start afresh from the new plan (a teleport moves the ends at once).
+        let new = self.items(bodies, id);
+        if !self.lists.keeps_order(&new, now) {
+            // The box jumped (a teleport, a spin started or stopped): it is filed afresh,
+            // its new pairs reported before its old ones go.
+            let from = changes.len();
+            self.remove(id, bodies, now, changes);
+            self.insert(id, bodies, now, changes);
+            kinetic_core::kds::additions_first(&mut changes[from..]);
+            return;
+        }
+        self.lists.set_keys(new);
+        // Its watches start afresh from the new plan.
         let slots = self.watches_of[id as usize].clone();
         for &slot in &slots {
             let old = self.watches[slot as usize].expect("a live watch");

@@ -1,8 +1,8 @@
 //! Colliders as proxies: put into the structure, taken out, and the structure picked for
 //! the first ones.
 
-use super::{KineticBroadPhase, Proxy};
 use super::REGION_STEPS;
+use super::{KineticBroadPhase, Proxy};
 use crate::proxy::Hold;
 use kinetic_core::{Body, FlightPlan, Real, Shape};
 use kinetic_flight::{Choice, ConvexShape, Grid, Guards, LooseGrid, Sweep};

@@ -1,0 +1,126 @@
+//! The library's world: the kinetic simulator ([`kinetic_core::World`]) with the fast
+//! structure by default.
+//!
+//! `kinetic_core::World` runs any candidate structure and defaults to the brute force, the
+//! exact reference, because the core knows no other. This world defaults to [`Auto`]: the
+//! flight structure the registry's measured rule ([`kinetic_flight::for_flights`]) picks for
+//! the sizes of the objects it holds, re-picked when they spread past its bounds. Everything
+//! else is the simulator's own: this type derefs to it, and forwards the methods that change
+//! the world itself, so that `world.advance_to(world.now() + 1.0)` borrows as it reads.
+
+use kinetic_core::{
+    Body, CandidateStructure, ContactEvent, FlightPlan, ObjectId, Real, Response, Shape, StepKind,
+    Walls, WorldError, WorldKind,
+};
+use kinetic_flight::Auto;
+use std::ops::{Deref, DerefMut};
+
+/// A world of moving objects: add objects with flight plans, change plans, advance, drain the
+/// exact contact events. Every method of [`kinetic_core::World`] is available on it.
+#[derive(Debug)]
+pub struct World {
+    inner: kinetic_core::World,
+}
+
+impl World {
+    /// An empty world with no response, no walls and the default structure ([`Auto`]).
+    pub fn new(kind: WorldKind) -> World {
+        World::with_response(kind, Response::None, None).expect("no walls are valid walls")
+    }
+
+    /// An empty world with the given response and walls, and the default structure.
+    pub fn with_response(
+        kind: WorldKind,
+        response: Response,
+        walls: Option<Walls>,
+    ) -> Result<World, WorldError> {
+        World::with_structure(kind, response, walls, Box::new(Auto::new()))
+    }
+
+    /// An empty world with the given response, walls and candidate structure (any of the
+    /// registry's, or one of your own).
+    pub fn with_structure(
+        kind: WorldKind,
+        response: Response,
+        walls: Option<Walls>,
+        structure: Box<dyn CandidateStructure>,
+    ) -> Result<World, WorldError> {
+        kinetic_core::World::with_structure(kind, response, walls, structure).map(World::from)
+    }
+
+    /// The simulator itself.
+    pub fn into_inner(self) -> kinetic_core::World {
+        self.inner
+    }
+
+    /// Adds a ball (see [`kinetic_core::World::add_ball`]).
+    pub fn add_ball(&mut self, radius: Real, plan: FlightPlan) -> Result<ObjectId, WorldError> {
+        self.inner.add_ball(radius, plan)
+    }
+
+    /// Adds balls together (see [`kinetic_core::World::add_balls`]).
+    pub fn add_balls(
+        &mut self,
+        balls: impl IntoIterator<Item = (Real, FlightPlan)>,
+    ) -> Result<Vec<ObjectId>, WorldError> {
+        self.inner.add_balls(balls)
+    }
+
+    /// Adds an object (see [`kinetic_core::World::add_object`]).
+    pub fn add_object(&mut self, shape: Shape, plan: FlightPlan) -> Result<ObjectId, WorldError> {
+        self.inner.add_object(shape, plan)
+    }
+
+    /// Adds objects together (see [`kinetic_core::World::add_objects`]).
+    pub fn add_objects(
+        &mut self,
+        objects: impl IntoIterator<Item = (Shape, FlightPlan)>,
+    ) -> Result<Vec<ObjectId>, WorldError> {
+        self.inner.add_objects(objects)
+    }
+
+    /// Removes an object (see [`kinetic_core::World::remove`]).
+    pub fn remove(&mut self, id: ObjectId) -> Result<Body, WorldError> {
+        self.inner.remove(id)
+    }
+
+    /// Gives an object a new plan (see [`kinetic_core::World::set_plan`]).
+    pub fn set_plan(&mut self, id: ObjectId, plan: FlightPlan) -> Result<(), WorldError> {
+        self.inner.set_plan(id, plan)
+    }
+
+    /// Processes every event up to `t` (see [`kinetic_core::World::advance_to`]).
+    pub fn advance_to(&mut self, t: Real) -> Result<(), WorldError> {
+        self.inner.advance_to(t)
+    }
+
+    /// Processes the next event up to `until` (see [`kinetic_core::World::step`]).
+    pub fn step(&mut self, until: Real) -> Result<Option<StepKind>, WorldError> {
+        self.inner.step(until)
+    }
+
+    /// Takes the contact events so far (see [`kinetic_core::World::drain_events`]).
+    pub fn drain_events(&mut self) -> Vec<ContactEvent> {
+        self.inner.drain_events()
+    }
+}
+
+impl From<kinetic_core::World> for World {
+    fn from(inner: kinetic_core::World) -> World {
+        World { inner }
+    }
+}
+
+impl Deref for World {
+    type Target = kinetic_core::World;
+
+    fn deref(&self) -> &kinetic_core::World {
+        &self.inner
+    }
+}
+
+impl DerefMut for World {
+    fn deref_mut(&mut self) -> &mut kinetic_core::World {
+        &mut self.inner
+    }
+}

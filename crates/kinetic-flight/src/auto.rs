@@ -1,0 +1,209 @@
+//! `auto`: the flight structure picked by the measured rule ([`crate::for_flights`]) for the
+//! objects it holds, for a world whose objects come one by one and whose sizes are not known
+//! when it is made (the library's default world).
+//!
+//! It starts as the loose grid (alike sizes) and keeps the spread of the outer radii of every
+//! object it has held. When a newcomer widens the spread past the rule's bound, it builds the
+//! structure the rule now names from every object it holds and hands its pairs over: the new
+//! structure's pairs are added before the old one's are let go, so no pair in contact is
+//! dropped for an instant and the log is the same as the new structure's from the start. The
+//! spread only grows, so this happens at most twice (loose grid, grid, sweep).
+
+use crate::choose::{Choice, for_flights};
+use crate::{Grid, LooseGrid, Sweep};
+use kinetic_core::kds::{Bodies, PairChange, additions_first};
+use kinetic_core::{CandidateStructure, Real, Vec3};
+
+/// The flight structure the rule picks for the objects held so far.
+#[derive(Debug)]
+pub struct Auto {
+    choice: Choice,
+    inner: Box<dyn CandidateStructure>,
+    /// Whether each id is held.
+    held: Vec<bool>,
+    /// The smallest and largest outer radius of every object held so far.
+    lo: Real,
+    hi: Real,
+    least_flight: Real,
+    switches: u64,
+}
+
+impl Default for Auto {
+    fn default() -> Auto {
+        Auto::new()
+    }
+}
+
+impl Auto {
+    /// An empty structure (the loose grid until sizes spread).
+    pub fn new() -> Auto {
+        Auto::with_least_flight(0.0)
+    }
+
+    /// An empty structure whose grids give every region at least `flight` time units of
+    /// flight (see [`LooseGrid::with_least_flight`]).
+    pub fn with_least_flight(flight: Real) -> Auto {
+        let least_flight = if flight.is_finite() {
+            flight.max(0.0)
+        } else {
+            0.0
+        };
+        Auto {
+            choice: Choice::Loose,
+            inner: make(Choice::Loose, least_flight),
+            held: Vec::new(),
+            lo: Real::INFINITY,
+            hi: 0.0,
+            least_flight,
+            switches: 0,
+        }
+    }
+
+    /// The structure in use.
+    pub fn choice(&self) -> Choice {
+        self.choice
+    }
+
+    /// Widens the spread by the outer radii of `ids` and moves to the structure the rule
+    /// names for it, with `ids` inserted.
+    fn take_in(&mut self, ids: &[u32], bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>) {
+        for &id in ids {
+            if let Some(b) = &bodies[id as usize] {
+                let r = b.shape.outer_radius();
+                if r > 0.0 {
+                    self.lo = self.lo.min(r);
+                    self.hi = self.hi.max(r);
+                }
+            }
+        }
+        let spread = if self.hi > 0.0 {
+            self.hi / self.lo
+        } else {
+            1.0
+        };
+        let want = for_flights(spread);
+        if want == self.choice {
+            self.mark(ids, true);
+            self.inner.insert_many(ids, bodies, now, changes);
+            return;
+        }
+        let old: Vec<u32> = (0..self.held.len() as u32)
+            .filter(|&id| self.held[id as usize])
+            .collect();
+        self.mark(ids, true);
+        let mut next = make(want, self.least_flight);
+        let all: Vec<u32> = old.iter().chain(ids).copied().collect();
+        let from = changes.len();
+        next.insert_many(&all, bodies, now, changes);
+        for &id in &old {
+            self.inner.remove(id, bodies, now, changes);
+        }
+        additions_first(&mut changes[from..]);
+        if !old.is_empty() {
+            self.switches += 1;
+        }
+        self.inner = next;
+        self.choice = want;
+    }
+
+    fn mark(&mut self, ids: &[u32], held: bool) {
+        if let Some(&top) = ids.iter().max()
+            && self.held.len() <= top as usize
+        {
+            self.held.resize(top as usize + 1, false);
+        }
+        for &id in ids {
+            self.held[id as usize] = held;
+        }
+    }
+}
+
+/// An empty structure of kind `choice`.
+fn make(choice: Choice, least_flight: Real) -> Box<dyn CandidateStructure> {
+    match choice {
+        Choice::Loose => Box::new(LooseGrid::new().with_least_flight(least_flight)),
+        Choice::Grid => Box::new(Grid::new().with_least_flight(least_flight)),
+        Choice::Sweep | Choice::Guards => Box::new(Sweep::new()),
+    }
+}
+
+impl CandidateStructure for Auto {
+    fn name(&self) -> &'static str {
+        self.choice.name()
+    }
+
+    fn insert(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>) {
+        self.take_in(&[id], bodies, now, changes);
+    }
+
+    fn insert_many(
+        &mut self,
+        ids: &[u32],
+        bodies: &Bodies,
+        now: Real,
+        changes: &mut Vec<PairChange>,
+    ) {
+        self.take_in(ids, bodies, now, changes);
+    }
+
+    fn remove(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>) {
+        if self.held.get(id as usize).copied().unwrap_or(false) {
+            self.held[id as usize] = false;
+            self.inner.remove(id, bodies, now, changes);
+        }
+    }
+
+    fn replan(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>) {
+        self.inner.replan(id, bodies, now, changes);
+    }
+
+    fn next_event_time(&self) -> Real {
+        self.inner.next_event_time()
+    }
+
+    fn process_next_event(
+        &mut self,
+        bodies: &Bodies,
+        changes: &mut Vec<PairChange>,
+    ) -> &'static str {
+        self.inner.process_next_event(bodies, changes)
+    }
+
+    fn certificates(&self) -> usize {
+        self.inner.certificates()
+    }
+
+    fn counters(&self) -> Vec<(&'static str, f64)> {
+        let mut c = self.inner.counters();
+        c.push(("switches", self.switches as f64));
+        c
+    }
+
+    fn boxes(&self, bodies: &Bodies, now: Real) -> Vec<(Vec3, Vec3)> {
+        self.inner.boxes(bodies, now)
+    }
+
+    fn validate(&self, bodies: &Bodies, now: Real) -> Result<(), String> {
+        for (id, b) in bodies.iter().enumerate() {
+            let held = self.held.get(id).copied().unwrap_or(false);
+            if held != b.is_some() {
+                return Err(format!(
+                    "auto: object {id} held {held}, live {}",
+                    b.is_some()
+                ));
+            }
+        }
+        let spread = if self.hi > 0.0 {
+            self.hi / self.lo
+        } else {
+            1.0
+        };
+        if for_flights(spread) != self.choice {
+            return Err(format!(
+                "auto: holds {} for a spread of {spread}",
+                self.choice.name()
+            ));
+        }
+        self.inner.validate(bodies, now)
+    }
+}

@@ -1,0 +1,155 @@
+//! Every flight structure, and the default one ([`Auto`]), against the brute force: objects
+//! come in batches while the world runs, their sizes spread past the rule's bounds (loose
+//! grid, then grid, then sweep for `Auto`), new plans teleport objects and objects leave; the
+//! log must be the brute force's bit for bit, and the world and structure invariants hold
+//! after every event.
+
+use kinetic_core::{
+    BruteForce, CandidateStructure, FlightPlan, ObjectId, Response, Vec3, World, WorldKind,
+};
+use kinetic_flight::{Auto, Choice, Grid, Guards, LooseGrid, Sweep};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// Runs both worlds to `t`, validating the audited one after every event.
+fn run_to(audited: &mut World, reference: &mut World, t: f64) {
+    while audited.step(t).expect("step").is_some() {
+        audited.validate().expect("valid after every event");
+    }
+    audited.advance_to(t).expect("advance");
+    reference.advance_to(t).expect("advance");
+}
+
+fn random_ball(rng: &mut ChaCha8Rng, radius: f64, now: f64) -> (f64, FlightPlan) {
+    let p = Vec3::new(
+        rng.random_range(-12.0..12.0),
+        rng.random_range(-12.0..12.0),
+        rng.random_range(-12.0..12.0),
+    );
+    let v = Vec3::new(
+        rng.random_range(-1.0..1.0),
+        rng.random_range(-1.0..1.0),
+        rng.random_range(-1.0..1.0),
+    );
+    (radius, FlightPlan::linear(p, v).starting_at(now))
+}
+
+/// The structures under test, by name.
+fn structure(name: &str) -> Box<dyn CandidateStructure> {
+    match name {
+        "auto" => Box::new(Auto::new()),
+        "sweep" => Box::new(Sweep::new()),
+        "grid" => Box::new(Grid::new()),
+        "loose-grid" => Box::new(LooseGrid::new()),
+        "guards" => Box::new(Guards::new(1.0)),
+        _ => unreachable!("a structure of this test"),
+    }
+}
+
+fn scenario(seed: u64, kind: WorldKind, name: &str) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let make = |s: Box<dyn CandidateStructure>| {
+        World::with_structure(kind, Response::None, None, s).expect("a world")
+    };
+    let mut auto = make(structure(name));
+    let mut brute = make(Box::new(BruteForce::new()));
+    let mut ids: Vec<ObjectId> = Vec::new();
+    // Radii of each batch: alike, then up to 100x (grid), then up to 1000x (sweep).
+    let batches: [(usize, f64, f64, Choice); 3] = [
+        (40, 0.2, 0.6, Choice::Loose),
+        (3, 10.0, 20.0, Choice::Grid),
+        (2, 150.0, 200.0, Choice::Sweep),
+    ];
+    let mut t = 0.0;
+    for (k, &(count, lo, hi, want)) in batches.iter().enumerate() {
+        let balls: Vec<(f64, FlightPlan)> = (0..count)
+            .map(|_| {
+                let r = rng.random_range(lo..hi);
+                random_ball(&mut rng, r, t)
+            })
+            .collect();
+        // The first batch comes one by one, the others together.
+        if k == 0 {
+            for &(r, plan) in &balls {
+                let a = auto.add_ball(r, plan).expect("add");
+                let b = brute.add_ball(r, plan).expect("add");
+                assert_eq!(a, b);
+                ids.push(a);
+            }
+        } else {
+            let a = auto.add_balls(balls.iter().copied()).expect("add");
+            let b = brute.add_balls(balls.iter().copied()).expect("add");
+            assert_eq!(a, b);
+            ids.extend(a);
+        }
+        auto.validate().expect("valid after adding");
+        if name == "auto" {
+            assert_eq!(auto.structure_name(), want.name(), "batch {k}");
+        }
+        for _ in 0..4 {
+            t += 2.5;
+            run_to(&mut auto, &mut brute, t);
+            // A few new plans and a removal.
+            for _ in 0..3 {
+                let id = ids[rng.random_range(0..ids.len())];
+                if let Some(body) = auto.body(id) {
+                    let (_, plan) = random_ball(&mut rng, body.shape.outer_radius(), t);
+                    auto.set_plan(id, plan).expect("replan");
+                    brute.set_plan(id, plan).expect("replan");
+                }
+            }
+            let id = ids.swap_remove(rng.random_range(0..ids.len()));
+            auto.remove(id).expect("remove");
+            brute.remove(id).expect("remove");
+            // A new plan may teleport: what it starts is processed at once, at `t`.
+            run_to(&mut auto, &mut brute, t);
+            auto.validate()
+                .expect("valid after new plans and a removal");
+        }
+    }
+    if name == "auto" {
+        let counters = auto.structure_counters();
+        let switches = counters.iter().find(|(n, _)| *n == "switches");
+        assert_eq!(
+            switches.map(|s| s.1),
+            Some(2.0),
+            "loose grid to grid to sweep"
+        );
+    }
+    let (a, b) = (auto.drain_events(), brute.drain_events());
+    assert!(a.len() > 20, "a run with contacts: {}", a.len());
+    assert_eq!(a.len(), b.len());
+    for (x, y) in a.iter().zip(&b) {
+        assert_eq!(
+            (x.a, x.b, x.kind, x.time.to_bits()),
+            (y.a, y.b, y.kind, y.time.to_bits()),
+            "{name}, seed {seed}"
+        );
+    }
+}
+
+#[test]
+fn auto_switches_as_sizes_spread_and_matches_the_brute_force_bit_for_bit() {
+    for seed in 0..4 {
+        scenario(seed, WorldKind::Free, "auto");
+    }
+}
+
+#[test]
+fn auto_on_the_plane_matches_the_brute_force_bit_for_bit() {
+    for seed in 10..12 {
+        scenario(seed, WorldKind::Plane, "auto");
+    }
+}
+
+#[test]
+fn every_flight_structure_takes_teleports_and_spread_sizes_bit_for_bit() {
+    for name in ["sweep", "grid", "loose-grid", "guards"] {
+        for seed in 20..22 {
+            scenario(seed, WorldKind::Free, name);
+        }
+    }
+    for name in ["sweep", "grid", "loose-grid"] {
+        scenario(30, WorldKind::Plane, name);
+    }
+}
