@@ -73,8 +73,8 @@ fn small_scene_gives_the_exact_log() {
 ";
     assert_eq!(events.unwrap(), want);
     let stats: serde_json::Value = serde_json::from_str(&stats.unwrap()).unwrap();
-    // A free world of similar sizes gets the loose grid.
-    assert_eq!(stats["structure"], "loose-grid");
+    // Four objects: the brute force's six pairs cost less than any structure.
+    assert_eq!(stats["structure"], "brute-force");
     assert_eq!(stats["objects"], 4);
     assert_eq!(stats["contacts"]["begin"], 4);
     assert_eq!(stats["contacts"]["end"], 3);

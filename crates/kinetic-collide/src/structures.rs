@@ -110,8 +110,10 @@ impl From<Choice> for StructureName {
 ///
 /// A periodic box gets the periodic structure ([`crate::PeriodicSpheres`]), the only one
 /// that wraps. Elastic balls moving linearly inside walls get the cell grid
-/// ([`ElasticCells`]), one scheduled event per ball, when it fits their sizes. Every other
-/// scene gets the flight structure of [`kinetic_flight::for_flights`] for the spread of its
+/// ([`ElasticCells`]), one scheduled event per ball, when it fits their sizes. A scene whose
+/// pairs cost the brute force less than a box structure's objects and [`crossings`] cost it
+/// ([`kinetic_flight::brute_force_pays`]: a few dozen objects, or a few hundred flying far
+/// without bouncing) gets the brute force. Every other scene gets the flight structure of [`kinetic_flight::for_flights`] for the spread of its
 /// sizes (largest over smallest outer radius): the loose grid, the grid or the sweep. Plane
 /// worlds are held by the same box structures (a rolling ball's disc holds its contacts).
 /// The paper's other structures (rolling tree, guards) stay selectable by name.
@@ -122,7 +124,42 @@ pub fn choose_structure(scene: &Scene) -> StructureName {
     if cell_balls(scene).is_some() {
         return StructureName::Cells;
     }
+    let elastic = scene.response == Response::Elastic;
+    let n = scene.objects.len();
+    if kinetic_flight::brute_force_pays(n, crossings(scene), heavy_pairs(scene), elastic) {
+        return StructureName::BruteForce;
+    }
     kinetic_flight::for_flights(scene.size_ratio()).into()
+}
+
+/// How many times the objects cross their own size over the horizon, summed: each object's
+/// travel (speed times horizon, plus half its acceleration times the horizon squared) over
+/// its diameter, at most [`FLIGHT_PARTS`] (the grids' least flight). What a box structure
+/// pays for in events, where the brute force pays for every pair once.
+pub fn crossings(scene: &Scene) -> f64 {
+    let h = scene.horizon;
+    scene
+        .objects
+        .iter()
+        .map(|o| {
+            let travel = o.velocity.length() * h + 0.5 * o.acceleration.length() * h * h;
+            let size = 2.0 * crate::scene::outer_radius(&o.shape);
+            if size > 0.0 && travel.is_finite() {
+                (travel / size).min(FLIGHT_PARTS)
+            } else {
+                FLIGHT_PARTS
+            }
+        })
+        .sum()
+}
+
+/// Whether some objects are cuboids or hulls, or accelerate: pairs whose certificates cost
+/// the brute force about twice a linear ball pair's.
+pub fn heavy_pairs(scene: &Scene) -> bool {
+    scene
+        .objects
+        .iter()
+        .any(|o| !matches!(o.shape, ShapeSpec::Ball { .. }) || o.acceleration != glam::DVec3::ZERO)
 }
 
 /// The walls and balls of a scene that the cell grid holds: elastic, free, walls, balls only,

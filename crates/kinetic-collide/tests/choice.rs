@@ -1,23 +1,30 @@
 //! The default choice on the choice family: it always names a structure that applies to the
 //! scene, follows the documented rule, and gives the brute force's contacts.
 
-use kinetic_collide::kds::{GRID_SPREAD, LOOSE_SPREAD};
+use kinetic_collide::Response;
+use kinetic_collide::kds::{GRID_SPREAD, LOOSE_SPREAD, brute_force_pays};
 use kinetic_collide::run::{StructureName, choose_structure, run_scene};
+use kinetic_collide::structures::{crossings, heavy_pairs};
 use kinetic_scenes::audit::assert_same_contacts;
 use kinetic_scenes::choice::{KINDS, choice_family};
 
 #[test]
 fn the_default_applies_follows_the_rule_and_matches_the_brute_force() {
-    let cases = choice_family(&[60], 7);
-    assert_eq!(cases.len(), KINDS.len());
+    let cases = choice_family(&[60, 250], 7);
+    assert_eq!(cases.len(), 2 * KINDS.len());
     let mut picked = std::collections::BTreeSet::new();
     for case in &cases {
         let scene = &case.scene;
         let pick = choose_structure(scene);
         assert!(pick.applies_to(scene), "{}: {pick:?}", case.kind);
         let spread = scene.size_ratio();
+        let heavy = heavy_pairs(scene);
+        let elastic = scene.response == Response::Elastic;
+        let n = scene.objects.len();
         let want = if StructureName::Cells.applies_to(scene) {
             StructureName::Cells
+        } else if brute_force_pays(n, crossings(scene), heavy, elastic) {
+            StructureName::BruteForce
         } else if spread <= LOOSE_SPREAD {
             StructureName::LooseGrid
         } else if spread <= GRID_SPREAD {
@@ -25,7 +32,7 @@ fn the_default_applies_follows_the_rule_and_matches_the_brute_force() {
         } else {
             StructureName::Sweep
         };
-        assert_eq!(pick, want, "{} (spread {spread})", case.kind);
+        assert_eq!(pick, want, "{} at {n} (spread {spread})", case.kind);
         picked.insert(pick.as_str());
         let reference = run_scene(scene, Some(StructureName::BruteForce)).unwrap();
         let got = run_scene(scene, None).unwrap();
@@ -35,6 +42,6 @@ fn the_default_applies_follows_the_rule_and_matches_the_brute_force() {
     // The family exercises every branch of the rule.
     assert_eq!(
         picked.into_iter().collect::<Vec<_>>(),
-        ["cells", "grid", "loose-grid", "sweep"]
+        ["brute-force", "cells", "grid", "loose-grid", "sweep"]
     );
 }

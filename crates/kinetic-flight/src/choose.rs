@@ -31,6 +31,40 @@ pub const GRID_SPREAD: Real = 300.0;
 /// [`for_steps`].
 pub const SIZES_ALIKE: Real = 8.0;
 
+/// The brute force's cost per pair of balls moving linearly (its one certificate), in
+/// microseconds, fitted on the choice family at 10 to 300 objects (`docs/results/choice.md`)...
+pub const PAIR_COST: Real = 0.28;
+/// ... twice that where pairs are heavier: cuboids and hulls (conservative advancement),
+/// accelerations (certificates of degree 4)...
+pub const HEAVY_PAIR_FACTOR: Real = 2.0;
+/// ... and a box structure's cost per object (its build)...
+pub const OBJECT_COST: Real = 2.8;
+/// ... and per crossing (an object travelling its own diameter: a region left, a box end
+/// passed, a cell crossed).
+pub const CROSSING_COST: Real = 0.71;
+/// Elastic scenes above this many objects never get the brute force: each bounce re-plans two
+/// objects, which costs it two certificates per object.
+pub const ELASTIC_BRUTE_MAX: usize = 32;
+
+/// Whether the brute force is the cheaper choice for `n` objects that cross their own size
+/// `crossings` times in all over the run (see `kinetic_collide::structures::crossings`):
+/// its `n (n - 1) / 2` pair certificates against a box structure's cost per object and per
+/// crossing. It is, for a few dozen objects, and for a few hundred that travel far on a long
+/// horizon without bouncing. `shapes`: some objects are cuboids or hulls; `elastic`: balls
+/// bounce.
+pub fn brute_force_pays(n: usize, crossings: Real, shapes: bool, elastic: bool) -> bool {
+    if elastic && n > ELASTIC_BRUTE_MAX {
+        return false;
+    }
+    let pair = if shapes {
+        PAIR_COST * HEAVY_PAIR_FACTOR
+    } else {
+        PAIR_COST
+    };
+    let nf = n as Real;
+    pair * nf * (nf - 1.0) / 2.0 <= OBJECT_COST * nf + CROSSING_COST * crossings
+}
+
 /// A structure for free-flying objects.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Choice {
@@ -164,6 +198,18 @@ mod tests {
         assert_eq!(for_flights(LOOSE_SPREAD), Choice::Loose);
         assert_eq!(for_flights(LOOSE_SPREAD * 1.01), Choice::Grid);
         assert_eq!(for_flights(GRID_SPREAD * 1.01), Choice::Sweep);
+    }
+
+    #[test]
+    fn the_brute_force_for_few_objects_or_long_flights() {
+        assert!(brute_force_pays(10, 0.0, false, false));
+        assert!(!brute_force_pays(100, 0.0, false, false));
+        // 100 balls each crossing its size 60 times over the run.
+        assert!(brute_force_pays(100, 6000.0, false, false));
+        assert!(!brute_force_pays(100, 2000.0, true, false));
+        assert!(!brute_force_pays(100, 6000.0, false, true));
+        assert!(!brute_force_pays(1000, 1e5, false, false));
+        assert!(!brute_force_pays(30, 0.0, true, false));
     }
 
     #[test]

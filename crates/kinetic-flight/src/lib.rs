@@ -61,8 +61,9 @@ mod sweep;
 
 pub use auto::Auto;
 pub use choose::{
-    Choice, GRID_SPREAD, LOOSE_SPREAD, RHO_MAX, SIGMA_MAX, SIZES_ALIKE, for_flights, for_steps,
-    guard_fatness, paper_choice, scale_factor, spread,
+    CROSSING_COST, Choice, ELASTIC_BRUTE_MAX, GRID_SPREAD, HEAVY_PAIR_FACTOR, LOOSE_SPREAD,
+    OBJECT_COST, PAIR_COST, RHO_MAX, SIGMA_MAX, SIZES_ALIKE, brute_force_pays, for_flights,
+    for_steps, guard_fatness, paper_choice, scale_factor, spread,
 };
 pub use cones::{Cone, ConeSet};
 pub use grid::Grid;
