@@ -3,8 +3,10 @@
 //! once it is far behind the fastest), the default's pick and its time over the fastest's.
 //! Writes `docs/results/choice.csv`.
 //!
-//! `cargo bench --bench choice -- [SIZES...] [--budget SECONDS] [--kinds a,b,...] [--out FILE]`
-//! (sizes default to 100 1000 10000). The brute force is left out above 3,000 objects: its
+//! `cargo bench --bench choice -- [SIZES...] [--budget SECONDS] [--kinds a,b,...]
+//! [--structures a,b,...] [--out FILE]` (sizes default to 100 1000 10000; `--structures`
+//! times only those beside the default's pick, for runs at 1e6 where a slow build alone
+//! would take minutes). The brute force is left out above 3,000 objects: its
 //! build alone makes n^2 / 2 certificates, and a budget stops runs only between events.
 
 use kinetic_collide::run::{Stream, StructureName, choose_structure, run_scene_streamed};
@@ -61,6 +63,7 @@ fn main() {
     let mut budget: f64 = 20.0;
     let mut out = String::from("docs/results/choice.csv");
     let mut kinds: Option<Vec<String>> = None;
+    let mut only: Option<Vec<String>> = None;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         match a.as_str() {
@@ -68,6 +71,11 @@ fn main() {
             "--out" => out = args.next().unwrap_or(out),
             "--kinds" => {
                 kinds = args
+                    .next()
+                    .map(|k| k.split(',').map(String::from).collect())
+            }
+            "--structures" => {
+                only = args
                     .next()
                     .map(|k| k.split(',').map(String::from).collect())
             }
@@ -94,8 +102,19 @@ fn main() {
         let scene = &case.scene;
         let pick = choose_structure(scene);
         let mut rows: Vec<(StructureName, Timing)> = Vec::new();
-        for (_, s) in StructureName::ALL {
-            if !s.applies_to(scene)
+        // The default's pick first: the others are then stopped at a few times its time.
+        let order = std::iter::once(pick).chain(
+            StructureName::ALL
+                .into_iter()
+                .map(|(_, s)| s)
+                .filter(|&s| s != pick),
+        );
+        for s in order {
+            let named = only
+                .as_ref()
+                .is_none_or(|o| s == pick || o.iter().any(|n| n == s.as_str()));
+            if !named
+                || !s.applies_to(scene)
                 || (s == StructureName::BruteForce && scene.objects.len() > 3000)
             {
                 continue;
@@ -111,6 +130,7 @@ fn main() {
                 rows.push((s, t));
             }
         }
+        rows.sort_by_key(|(s, _)| StructureName::ALL.iter().position(|(_, x)| x == s));
         let (fast, best) = rows
             .iter()
             .filter(|(_, t)| !t.stopped)

@@ -108,8 +108,9 @@ impl LooseGrid {
         });
         self.scratch = old;
         self.schedule(id, exit);
-        if self.big.len() > MANY_BIG && self.big.len() * BIG_SHARE > self.live {
+        if self.big.len() > self.refile_above && self.big.len() * BIG_SHARE > self.live {
             self.refile();
+            self.refile_above = MANY_BIG.max(2 * self.big.len());
         }
     }
 

@@ -17,7 +17,9 @@
 //!   filed in the cells it covers; one covering more than 8 on an axis or 64 in all (a
 //!   ground slab, a boulder among pebbles) is big, kept in a list that every region checks,
 //!   and checks every region itself when it is placed. Once more than 32 regions, and more
-//!   than one in 8, are big (cells sized by a lone first speck), the cells are sized afresh.
+//!   than one in 8, are big (cells sized by a lone first speck), the cells are sized afresh;
+//!   again only once twice as many are big as right after, so that sizes spread too wide
+//!   for any cell cost a few refiles, not one per anchor.
 //! - Horizon ([`LooseGrid::with_horizon`]): a region covers at most this much time of flight,
 //!   so a body drifting slowly holds a region close to its box.
 //! - Least flight ([`LooseGrid::with_least_flight`]): a region covers at least this much time
@@ -104,6 +106,10 @@ pub struct LooseGrid {
     same_cells: u64,
     kept: u64,
     refiles: u64,
+    /// The cells are sized afresh only once more regions than this are big: twice as many
+    /// as right after the last time (the median may not move, and sizes spread wide keep
+    /// many regions big whatever the cells; a refile at every anchor would cost n^2).
+    refile_above: usize,
     scratch: Vec<u32>,
 }
 
@@ -145,6 +151,7 @@ impl LooseGrid {
             same_cells: 0,
             kept: 0,
             refiles: 0,
+            refile_above: MANY_BIG,
             scratch: Vec::new(),
         }
     }
