@@ -113,8 +113,9 @@ impl From<Choice> for StructureName {
 /// ([`ElasticCells`]), one scheduled event per ball, when it fits their sizes. A scene whose
 /// pairs cost the brute force less than a box structure's objects and [`crossings`] cost it
 /// ([`kinetic_flight::brute_force_pays`]: a few dozen objects, or a few hundred flying far
-/// without bouncing) gets the brute force. Every other scene gets the flight structure of [`kinetic_flight::for_flights`] for the spread of its
-/// sizes (largest over smallest outer radius): the loose grid, the grid or the sweep. Plane
+/// without bouncing) gets the brute force. Every other scene gets the flight structure of
+/// [`kinetic_flight::for_flights`] for the spread of its sizes (largest over smallest outer
+/// radius) and whether its objects barely move: the loose grid, the grid or the sweep. Plane
 /// worlds are held by the same box structures (a rolling ball's disc holds its contacts).
 /// The paper's other structures (rolling tree, guards) stay selectable by name.
 pub fn choose_structure(scene: &Scene) -> StructureName {
@@ -125,11 +126,12 @@ pub fn choose_structure(scene: &Scene) -> StructureName {
         return StructureName::Cells;
     }
     let elastic = scene.response == Response::Elastic;
-    let n = scene.objects.len();
-    if kinetic_flight::brute_force_pays(n, crossings(scene), heavy_pairs(scene), elastic) {
+    let (n, crossings) = (scene.objects.len(), crossings(scene));
+    if kinetic_flight::brute_force_pays(n, crossings, heavy_pairs(scene), elastic) {
         return StructureName::BruteForce;
     }
-    kinetic_flight::for_flights(scene.size_ratio()).into()
+    let resting = kinetic_flight::barely_moving(n, crossings);
+    kinetic_flight::for_flights(scene.size_ratio(), resting).into()
 }
 
 /// How many times the objects cross their own size over the horizon, summed: each object's

@@ -1,5 +1,5 @@
-//! `auto`: the flight structure picked by the measured rule ([`crate::for_flights`]) for the
-//! objects it holds, for a world whose objects come one by one and whose sizes are not known
+//! `auto`: the flight structure picked by the measured rule ([`crate::for_flights`], for
+//! moving objects) for the objects it holds, for a world whose objects come one by one and whose sizes are not known
 //! when it is made (the library's default world).
 //!
 //! It starts as the loose grid (alike sizes) and keeps the spread of the outer radii of every
@@ -81,7 +81,7 @@ impl Auto {
         } else {
             1.0
         };
-        let want = for_flights(spread);
+        let want = for_flights(spread, false);
         if want == self.choice {
             self.mark(ids, true);
             self.inner.insert_many(ids, bodies, now, changes);
@@ -198,7 +198,7 @@ impl CandidateStructure for Auto {
         } else {
             1.0
         };
-        if for_flights(spread) != self.choice {
+        if for_flights(spread, false) != self.choice {
             return Err(format!(
                 "auto: holds {} for a spread of {spread}",
                 self.choice.name()

@@ -22,8 +22,9 @@ pub const SIGMA_MAX: Real = 8.0;
 pub const RHO_MAX: Real = 4.0;
 
 /// Sizes (outer radii, largest over smallest) spread by at most this factor: the loose grid,
-/// in [`for_flights`].
-pub const LOOSE_SPREAD: Real = 50.0;
+/// in [`for_flights`] (measured fastest up to the asteroids' 158x; a lone boulder among
+/// pebbles sits in its list of big regions).
+pub const LOOSE_SPREAD: Real = 200.0;
 /// Sizes spread by at most this factor (and more than [`LOOSE_SPREAD`]): the hierarchical
 /// grid; beyond it, the sweep, in [`for_flights`].
 pub const GRID_SPREAD: Real = 300.0;
@@ -114,20 +115,33 @@ pub fn spread(radii: impl IntoIterator<Item = Real>) -> Real {
 /// `spread` (see [`spread`]), measured fastest on the choice family
 /// (`docs/results/choice.md`):
 ///
-/// 1. within [`LOOSE_SPREAD`]: the loose grid, one certificate per object (its cells fit
-///    every region);
-/// 2. within [`GRID_SPREAD`]: the hierarchical grid, exact box pairs level by level;
-/// 3. a wider spread: the sweep, whose sorted lists do not care about sizes.
+/// 1. objects that barely move (`resting`, see [`barely_moving`]) within [`GRID_SPREAD`]:
+///    the hierarchical grid, the cheapest to build;
+/// 2. within [`LOOSE_SPREAD`]: the loose grid, one certificate per object;
+/// 3. within [`GRID_SPREAD`]: the hierarchical grid, exact box pairs level by level;
+/// 4. a wider spread: the sweep, whose sorted lists do not care about sizes.
 ///
 /// The guards are never picked: on every scene measured, one of the three is faster.
-pub fn for_flights(spread: Real) -> Choice {
-    if spread <= LOOSE_SPREAD {
+pub fn for_flights(spread: Real, resting: bool) -> Choice {
+    if resting && spread <= GRID_SPREAD {
+        Choice::Grid
+    } else if spread <= LOOSE_SPREAD {
         Choice::Loose
     } else if spread <= GRID_SPREAD {
         Choice::Grid
     } else {
         Choice::Sweep
     }
+}
+
+/// Objects that cross their own size fewer than this many times each, on average over the
+/// run, barely move: all a structure costs them is its build.
+pub const RESTING_CROSSINGS: Real = 0.1;
+
+/// Whether `n` objects crossing their own size `crossings` times in all barely move (see
+/// [`RESTING_CROSSINGS`]).
+pub fn barely_moving(n: usize, crossings: Real) -> bool {
+    crossings <= RESTING_CROSSINGS * n as Real
 }
 
 /// The structure for a stepping engine's moving bodies of outer radii `radii`: the loose grid
@@ -194,10 +208,14 @@ mod tests {
     fn flights_by_spread() {
         assert_eq!(spread([]), 1.0);
         assert_eq!(spread([2.0, 0.0, 0.5]), 4.0);
-        assert_eq!(for_flights(1.0), Choice::Loose);
-        assert_eq!(for_flights(LOOSE_SPREAD), Choice::Loose);
-        assert_eq!(for_flights(LOOSE_SPREAD * 1.01), Choice::Grid);
-        assert_eq!(for_flights(GRID_SPREAD * 1.01), Choice::Sweep);
+        assert_eq!(for_flights(1.0, false), Choice::Loose);
+        assert_eq!(for_flights(LOOSE_SPREAD, false), Choice::Loose);
+        assert_eq!(for_flights(LOOSE_SPREAD * 1.01, false), Choice::Grid);
+        assert_eq!(for_flights(GRID_SPREAD * 1.01, false), Choice::Sweep);
+        assert_eq!(for_flights(1.0, true), Choice::Grid);
+        assert_eq!(for_flights(GRID_SPREAD * 1.01, true), Choice::Sweep);
+        assert!(barely_moving(1000, 50.0));
+        assert!(!barely_moving(1000, 500.0));
     }
 
     #[test]

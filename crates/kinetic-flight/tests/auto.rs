@@ -54,10 +54,11 @@ fn scenario(seed: u64, kind: WorldKind, name: &str) {
     let mut auto = make(structure(name));
     let mut brute = make(Box::new(BruteForce::new()));
     let mut ids: Vec<ObjectId> = Vec::new();
-    // Radii of each batch: alike, then up to 100x (grid), then up to 1000x (sweep).
+    // Radii of each batch: alike, then a spread of 208x to 290x (grid), then over 600x
+    // (sweep).
     let batches: [(usize, f64, f64, Choice); 3] = [
-        (40, 0.2, 0.6, Choice::Loose),
-        (3, 10.0, 20.0, Choice::Grid),
+        (40, 0.2, 0.25, Choice::Loose),
+        (3, 52.0, 58.0, Choice::Grid),
         (2, 150.0, 200.0, Choice::Sweep),
     ];
     let mut t = 0.0;
