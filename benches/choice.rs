@@ -8,6 +8,7 @@
 //! times only those beside the default's pick, for runs at 1e6 where a slow build alone
 //! would take minutes). The brute force is left out above 3,000 objects: its
 //! build alone makes n^2 / 2 certificates, and a budget stops runs only between events.
+//! Runs under 20 ms are the best of five.
 
 use kinetic_collide::run::{Stream, StructureName, choose_structure, run_scene_streamed};
 use kinetic_scenes::choice::{choice_family, response_name, world_name};
@@ -15,6 +16,11 @@ use std::ops::ControlFlow;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
+
+/// Runs shorter than this many seconds...
+const SHORT: f64 = 0.02;
+/// ... are timed this many times, and the best counts.
+const SHORT_RUNS: usize = 5;
 
 /// One structure's run of one scene.
 struct Timing {
@@ -126,7 +132,20 @@ fn main() {
                 .map(|(_, t)| t.seconds)
                 .fold(f64::INFINITY, f64::min);
             let cap = budget.min((best * 4.0).max(0.5));
-            if let Some(t) = timed(scene, s, cap) {
+            if let Some(mut t) = timed(scene, s, cap) {
+                // Runs of a few milliseconds vary by 2x from one to the next (the first
+                // structure timed on a scene pays for fresh memory): the best of five.
+                for _ in 1..SHORT_RUNS {
+                    if t.stopped || t.seconds >= SHORT {
+                        break;
+                    }
+                    if let Some(again) = timed(scene, s, cap)
+                        && !again.stopped
+                        && again.seconds < t.seconds
+                    {
+                        t = again;
+                    }
+                }
                 rows.push((s, t));
             }
         }

@@ -26,8 +26,10 @@
 //! # Ok::<(), kinetic_collide::WorldError>(())
 //! ```
 //!
-//! Balls rolling on a plane get the collision tree of the paper's Section 2
-//! ([`RollingTree`]) as their candidate structure:
+//! `World::new` takes the candidate structure measured fastest for what it holds ([`Auto`]:
+//! the loose grid, then the grid or the sweep as sizes spread). Any other can be named, for
+//! example the collision tree of the paper's Section 2 ([`RollingTree`]) for balls rolling on
+//! a plane:
 //!
 //! ```
 //! use kinetic_collide::{FlightPlan, ListLayout, Response, RollingTree, Vec3, World, WorldKind};
