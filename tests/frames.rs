@@ -182,7 +182,8 @@ fn a_highlighted_contact_appears_where_its_projection_says() {
     assert!(!contact(first.pixel(px as u32, py as u32).unwrap()));
     // The painter draws every object once.
     let painter = Painter::new(&scene, Overlay::Boxes);
-    let (world, _) = kinetic_collide::run::build_world(&scene, None).unwrap();
+    let sweep = Some(kinetic_collide::run::StructureName::Sweep);
+    let (world, _) = kinetic_collide::run::build_world(&scene, sweep).unwrap();
     let s = painter.snapshot(&world, &[false; 4]);
     assert_eq!(s.instances.len(), 4);
     assert_eq!(s.lines.len(), 12 * 4, "the sweep's four boxes");

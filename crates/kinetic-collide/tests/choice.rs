@@ -2,7 +2,9 @@
 //! scene, follows the documented rule, and gives the brute force's contacts.
 
 use kinetic_collide::Response;
-use kinetic_collide::kds::{GRID_SPREAD, LOOSE_SPREAD, RESTING_CROSSINGS, brute_force_pays};
+use kinetic_collide::kds::{
+    GRID_SPREAD, LOOSE_SPREAD, RESTING_CROSSINGS, RESTING_GRID_MAX, brute_force_pays,
+};
 use kinetic_collide::run::{StructureName, choose_structure, run_scene};
 use kinetic_collide::structures::{crossings, heavy_pairs};
 use kinetic_scenes::audit::assert_same_contacts;
@@ -25,7 +27,10 @@ fn the_default_applies_follows_the_rule_and_matches_the_brute_force() {
             StructureName::Cells
         } else if brute_force_pays(n, crossings(scene), heavy, elastic) {
             StructureName::BruteForce
-        } else if crossings(scene) <= RESTING_CROSSINGS * n as f64 && spread <= GRID_SPREAD {
+        } else if crossings(scene) <= RESTING_CROSSINGS * n as f64
+            && n <= RESTING_GRID_MAX
+            && spread <= GRID_SPREAD
+        {
             StructureName::Grid
         } else if spread <= LOOSE_SPREAD {
             StructureName::LooseGrid

@@ -135,13 +135,16 @@ pub fn for_flights(spread: Real, resting: bool) -> Choice {
 }
 
 /// Objects that cross their own size fewer than this many times each, on average over the
-/// run, barely move: all a structure costs them is its build.
+/// run, barely move: all a structure costs them is its build...
 pub const RESTING_CROSSINGS: Real = 0.1;
+/// ... which is the grid's cheapest up to this many objects; above, its memory (2 kB an
+/// object at rest, against the loose grid's 0.8 kB) costs more than its build saves.
+pub const RESTING_GRID_MAX: usize = 200_000;
 
 /// Whether `n` objects crossing their own size `crossings` times in all barely move (see
-/// [`RESTING_CROSSINGS`]).
+/// [`RESTING_CROSSINGS`]) and are few enough for the grid ([`RESTING_GRID_MAX`]).
 pub fn barely_moving(n: usize, crossings: Real) -> bool {
-    crossings <= RESTING_CROSSINGS * n as Real
+    n <= RESTING_GRID_MAX && crossings <= RESTING_CROSSINGS * n as Real
 }
 
 /// The structure for a stepping engine's moving bodies of outer radii `radii`: the loose grid
@@ -216,6 +219,7 @@ mod tests {
         assert_eq!(for_flights(GRID_SPREAD * 1.01, true), Choice::Sweep);
         assert!(barely_moving(1000, 50.0));
         assert!(!barely_moving(1000, 500.0));
+        assert!(!barely_moving(1_000_000, 0.0));
     }
 
     #[test]

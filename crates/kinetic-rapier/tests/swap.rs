@@ -78,8 +78,7 @@ fn differential(seed: u64, n: usize, lo: f32, hi: f32, steps: usize, structure: 
         assert_eq!(want, got, "seed {seed} step {step}: touching pairs differ");
         touched += got.len();
     }
-    let name = format!("{structure:?}").to_lowercase();
-    assert_eq!(ours.bp.inner.structure_name(), name);
+    assert_eq!(ours.bp.inner.structure_name(), structure.name());
     assert!(touched > steps, "the scene should keep contacts: {touched}");
     assert!(default.bp.faults.is_empty(), "{:?}", default.bp.faults);
 }
