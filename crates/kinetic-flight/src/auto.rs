@@ -76,11 +76,7 @@ impl Auto {
                 }
             }
         }
-        let spread = if self.hi > 0.0 {
-            self.hi / self.lo
-        } else {
-            1.0
-        };
+        let spread = self.spread();
         let want = for_flights(spread, false);
         if want == self.choice {
             self.mark(ids, true);
@@ -104,6 +100,15 @@ impl Auto {
         }
         self.inner = next;
         self.choice = want;
+    }
+
+    /// The spread of the outer radii of every object held so far (1 for none).
+    fn spread(&self) -> Real {
+        if self.hi > 0.0 {
+            self.hi / self.lo
+        } else {
+            1.0
+        }
     }
 
     fn mark(&mut self, ids: &[u32], held: bool) {
@@ -193,11 +198,7 @@ impl CandidateStructure for Auto {
                 ));
             }
         }
-        let spread = if self.hi > 0.0 {
-            self.hi / self.lo
-        } else {
-            1.0
-        };
+        let spread = self.spread();
         if for_flights(spread, false) != self.choice {
             return Err(format!(
                 "auto: holds {} for a spread of {spread}",
