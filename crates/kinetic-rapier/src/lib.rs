@@ -1,6 +1,7 @@
 //! # kinetic-rapier
 //!
-//! A kinetic broad phase for rapier3d 0.27, built on the free-flight structures of
+//! A kinetic broad phase for rapier3d 0.27: a thin adapter over the engine-agnostic core of
+//! `kinetic-broad` (which `kinetic-avian` shares), built on the free-flight structures of
 //! `kinetic-flight`. Swap it in with one line:
 //!
 //! ```
@@ -29,7 +30,7 @@
 //!
 //! ## What it does
 //!
-//! Each collider is a proxy in a kinetic structure ([`proxy`](crate) module): a ball about its
+//! Each collider is a proxy in a kinetic structure ([`kinetic_broad::Hold`]): a ball about its
 //! body's centre of mass when the body moves, its own box when the body is fixed. Every
 //! moving body has a flight plan fitted to rapier's integrator (position, velocity, and the
 //! acceleration it has shown two steps running: gravity and any other constant force). A body
@@ -63,10 +64,8 @@
 #![forbid(unsafe_code)]
 
 mod broad_phase;
-mod motions;
-mod pairs;
-mod proxy;
 
-pub use broad_phase::{BroadPhaseStats, KineticBroadPhase, StepStats};
+pub use broad_phase::KineticBroadPhase;
+pub use kinetic_broad::{BroadPhaseStats, StepStats};
 /// The rapier this broad phase plugs into (0.27), as its types appear here.
 pub use rapier3d;

@@ -2,21 +2,12 @@
 //! the first ones.
 
 use super::REGION_STEPS;
-use super::{KineticBroadPhase, Proxy};
-use crate::proxy::Hold;
+use super::{BroadPhaseCore, Proxy};
+use crate::{Engine, Hold, Key, Seen, Step};
 use kinetic_core::{Body, FlightPlan, Real, Shape};
 use kinetic_flight::{Choice, ConvexShape, Grid, Guards, LooseGrid, Sweep};
-use rapier3d::prelude::*;
 
-impl KineticBroadPhase {
-    pub(super) fn known(&self, h: ColliderHandle) -> bool {
-        let i = h.into_raw_parts().0 as usize;
-        self.proxies
-            .get(i)
-            .and_then(|p| p.as_ref())
-            .is_some_and(|p| p.handle == h)
-    }
-
+impl BroadPhaseCore {
     /// The structure's shape for a hold.
     fn shape(&self, hold: &Hold, choice: Choice) -> Shape {
         match *hold {
@@ -56,11 +47,11 @@ impl KineticBroadPhase {
         }
     }
 
-    /// Drops collider `h` and its pairs without events (it was removed or disabled: rapier's
-    /// narrow phase drops its pairs itself).
-    pub(super) fn remove_collider(&mut self, h: ColliderHandle) {
-        if self.known(h) {
-            self.detach(h.into_raw_parts().0, true);
+    /// Drops collider `h` and its pairs without events (it was removed or disabled: the
+    /// engine's narrow phase drops its pairs itself).
+    pub(super) fn remove_collider(&mut self, h: Key) {
+        if self.knows(h) {
+            self.detach(h.index, true);
         }
     }
 
@@ -138,43 +129,41 @@ impl KineticBroadPhase {
     }
 
     /// Adds the colliders `new` (enabled, not held) at the positions' time.
-    pub(super) fn install(
-        &mut self,
-        new: &[ColliderHandle],
-        colliders: &ColliderSet,
-        bodies: &RigidBodySet,
-        params: &IntegrationParameters,
-        update: u64,
-    ) {
+    pub(super) fn install(&mut self, new: &[Key], engine: &impl Engine, step: Step, update: u64) {
         if new.is_empty() {
             return;
         }
-        let holds: Vec<(ColliderHandle, Hold)> = new
+        let holds: Vec<(Key, Hold)> = new
             .iter()
-            .filter_map(|&h| {
-                let co = colliders.get(h)?;
-                Some((
-                    h,
-                    Hold::of(co, bodies, params, self.slack_fraction, self.min_slack),
-                ))
+            .filter_map(|&h| match engine.collider(h, self.slack) {
+                // A moving hold whose body the engine does not give breaks the contract: the
+                // collider waits until it is changed again.
+                Seen::Held(Hold::Moving { body, .. }) if engine.body(body).is_none() => None,
+                Seen::Held(hold) => Some((h, hold)),
+                Seen::Missing | Seen::Disabled => None,
             })
             .collect();
         // Plans first: a body seen for the first time gets a plan fitted to its state now; a
         // body already moving keeps its plan for the collider it gains.
         for &(h, hold) in &holds {
-            let i = h.into_raw_parts().0;
+            let i = h.index;
             self.grow_slots(i);
             if let Hold::Moving { body, slack, .. } = hold {
                 let fresh = !self.motions.contains(body);
-                let m = self.motion_for(body, &bodies[body], slack);
-                m.colliders.push(i);
                 if fresh {
+                    let state = engine.body(body).expect("checked when held");
+                    let m = self.motion_for(body, &state, slack);
+                    m.colliders.push(i);
                     m.seen = update;
-                    self.refit(body, bodies, params, true);
+                    self.refit(body, engine, step, true);
+                } else {
+                    let m = self.motions.get_mut(body).expect("a motion");
+                    m.slack = m.slack.min(slack);
+                    m.colliders.push(i);
                 }
             }
             let proxy = Proxy {
-                handle: h,
+                key: h,
                 hold,
                 grown_until: None,
             };
@@ -189,9 +178,9 @@ impl KineticBroadPhase {
                 Choice::Guards => Box::new(Guards::new(1.0)),
                 // Both grids give a fast body's region at least a step of flight: a shot
                 // then costs an event a step, not one per cell or per two widths it flies.
-                Choice::Grid => Box::new(Grid::new().with_least_flight(params.dt as Real)),
+                Choice::Grid => Box::new(Grid::new().with_least_flight(step.dt)),
                 Choice::Loose => {
-                    let dt = params.dt as Real;
+                    let dt = step.dt;
                     Box::new(
                         LooseGrid::new()
                             .with_horizon(REGION_STEPS * dt)
@@ -204,9 +193,9 @@ impl KineticBroadPhase {
         if grow == 0.0 {
             // Level with the structure's clock: all at once (an empty structure builds in bulk).
             let choice = self.structure_choice();
-            let ids: Vec<u32> = holds.iter().map(|(h, _)| h.into_raw_parts().0).collect();
+            let ids: Vec<u32> = holds.iter().map(|(h, _)| h.index).collect();
             for (h, hold) in &holds {
-                let i = h.into_raw_parts().0 as usize;
+                let i = h.index as usize;
                 self.bodies[i] = Some(Body {
                     shape: self.shape(hold, choice),
                     plan: self.plan_of(hold),
@@ -221,7 +210,7 @@ impl KineticBroadPhase {
             return;
         }
         for (h, hold) in holds {
-            let i = h.into_raw_parts().0;
+            let i = h.index;
             let g = grow + self.own_reach(&hold);
             self.put_in(i, hold, g);
             self.book.apply(&mut self.changes, self.clock.kds);
@@ -231,7 +220,7 @@ impl KineticBroadPhase {
 
 /// The structure for the first colliders `holds`, by the registry's rule for stepping
 /// engines ([`kinetic_flight::for_steps`]) over the moving ones' radii.
-fn pick_structure(holds: &[(ColliderHandle, Hold)]) -> Choice {
+fn pick_structure(holds: &[(Key, Hold)]) -> Choice {
     kinetic_flight::for_steps(holds.iter().filter_map(|(_, h)| match *h {
         Hold::Moving { radius, .. } => Some(radius),
         _ => None,

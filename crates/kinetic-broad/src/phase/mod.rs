@@ -1,9 +1,10 @@
 //! The kinetic broad phase: colliders as proxies in a kinetic structure, bodies on flight
-//! plans fitted to rapier's integrator, and the pairs handed to rapier (see the crate docs).
+//! plans fitted to the engine's integrator, and the pairs handed to the engine (see the crate
+//! docs).
 //!
 //! Split by operation: `api.rs` (building and asking), `proxies.rs` (colliders in and out of
-//! the structure), `plans.rs` (bodies' plans and slack), `update.rs` (rapier's call and the
-//! structure's events), `validate.rs`.
+//! the structure), `plans.rs` (bodies' plans and slack), `update.rs` (the engine's call and
+//! the structure's events), `validate.rs`.
 
 mod api;
 mod plans;
@@ -18,11 +19,10 @@ pub use stats::{BroadPhaseStats, StepStats};
 
 use crate::motions::ByBody;
 use crate::pairs::{PairBook, PairOut};
-use crate::proxy::Hold;
+use crate::{Hold, Key, Slack};
 use kinetic_core::kds::PairChange;
 use kinetic_core::{Body, CandidateStructure, FlightPlan, Real, Vec3};
 use kinetic_flight::Choice;
-use rapier3d::prelude::*;
 
 /// Steps over which a body must stay within half its slack to be planned at rest.
 const REST_STEPS: Real = 30.0;
@@ -48,7 +48,7 @@ type Structure = Box<dyn CandidateStructure + Send + Sync>;
 /// A collider as the broad phase holds it.
 #[derive(Clone, Copy, Debug)]
 struct Proxy {
-    handle: ColliderHandle,
+    key: Key,
     hold: Hold,
     /// Grown to cover the time between its change and the structure's clock, until the
     /// positions reach this time.
@@ -76,7 +76,7 @@ struct Motion {
     last_a: Option<Vec3>,
     /// The acceleration it showed over two updates running: what its plan assumes.
     steady_a: Vec3,
-    /// Whether it is in `KineticBroadPhase::moving`.
+    /// Whether it is in `BroadPhaseCore::moving`.
     listed: bool,
 }
 
@@ -96,11 +96,11 @@ struct Clock {
     updates: u64,
 }
 
-/// The kinetic broad phase: implements rapier3d 0.27's [`BroadPhase`].
-pub struct KineticBroadPhase {
+/// The kinetic broad phase, for any engine: an adapter implements [`crate::Engine`] over its
+/// colliders and bodies and calls [`BroadPhaseCore::update`].
+pub struct BroadPhaseCore {
     choice: Option<Choice>,
-    slack_fraction: Real,
-    min_slack: Real,
+    slack: Slack,
     structure: Option<Structure>,
     bodies: Vec<Option<Body>>,
     /// Per collider, the version of its proxy's plan (bumped at every change), for the pair
@@ -109,17 +109,17 @@ pub struct KineticBroadPhase {
     proxies: Vec<Option<Proxy>>,
     /// Per collider index, the generation of the collider held there and the index of its
     /// moving body (`u32::MAX` for a fixed one): all a position update reads of each moved
-    /// collider, kept compact because rapier lists them in its islands' order.
+    /// collider, kept compact because an engine lists them in its own order (rapier: its islands').
     movers: Vec<Option<(u32, u32)>>,
     /// The bodies moved in this position update, a bit per body index: they are looked at
-    /// in index order, each once, whatever order rapier lists their colliders in.
+    /// in index order, each once, whatever order the engine lists their colliders in.
     moved_bits: Vec<u64>,
     motions: ByBody<Motion>,
     /// Bodies whose plans are not at rest, in the order they started moving.
-    moving: Vec<RigidBodyHandle>,
+    moving: Vec<Key>,
     /// Colliders whose proxies may be grown (checked when the positions move on).
     grown: Vec<u32>,
-    /// This call's [`KineticBroadPhase::lag_growth`], once worked out.
+    /// This call's [`BroadPhaseCore::lag_growth`], once worked out.
     lag_reach: Option<Real>,
     book: PairBook,
     clock: Clock,
@@ -134,26 +134,26 @@ pub struct KineticBroadPhase {
 }
 
 impl Proxy {
-    /// Its entry in [`KineticBroadPhase::movers`]: the collider's generation and the index
+    /// Its entry in [`BroadPhaseCore::movers`]: the collider's generation and the index
     /// of its moving body (`u32::MAX` when fixed).
     fn mover(&self) -> (u32, u32) {
         let body = match self.hold {
-            Hold::Moving { body, .. } => body.into_raw_parts().0,
+            Hold::Moving { body, .. } => body.index,
             Hold::Fixed { .. } => u32::MAX,
         };
-        (self.handle.into_raw_parts().1, body)
+        (self.key.generation, body)
     }
 }
 
-impl Default for KineticBroadPhase {
+impl Default for BroadPhaseCore {
     fn default() -> Self {
-        KineticBroadPhase::new()
+        BroadPhaseCore::new()
     }
 }
 
-impl std::fmt::Debug for KineticBroadPhase {
+impl std::fmt::Debug for BroadPhaseCore {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("KineticBroadPhase")
+        f.debug_struct("BroadPhaseCore")
             .field("structure", &self.structure_name())
             .field("stats", &self.stats)
             .finish_non_exhaustive()

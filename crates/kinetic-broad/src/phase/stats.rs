@@ -5,10 +5,10 @@
 pub struct BroadPhaseStats {
     /// Physics steps seen.
     pub steps: u64,
-    /// Pairs rapier has now.
+    /// Pairs the engine has now.
     pub pairs: usize,
-    /// Pairs the kinetic structure holds now (rapier also keeps, for up to a step, pairs
-    /// that have just dropped out).
+    /// Pairs the kinetic structure holds now (the engine also keeps, for up to a step,
+    /// pairs that have just dropped out).
     pub candidates: usize,
     /// Events of the kinetic structure processed.
     pub events: u64,
@@ -17,9 +17,9 @@ pub struct BroadPhaseStats {
     /// Colliders put into the structure (new ones, changed ones, and proxies grown or shrunk
     /// around a change between steps).
     pub inserts: u64,
-    /// `AddPair` events sent.
+    /// Pairs added.
     pub added: u64,
-    /// `DeletePair` events sent.
+    /// Pairs deleted.
     pub deleted: u64,
     /// Times a body that kept re-planning had its slack doubled.
     pub slack_growths: u64,
@@ -36,8 +36,8 @@ pub struct StepStats {
     pub replans: u64,
     /// Colliders put into the structure.
     pub inserts: u64,
-    /// `AddPair` events sent.
+    /// Pairs added.
     pub added: u64,
-    /// `DeletePair` events sent.
+    /// Pairs deleted.
     pub deleted: u64,
 }

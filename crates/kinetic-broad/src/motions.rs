@@ -1,15 +1,15 @@
-//! The moving bodies' records, in a vector indexed by the body handle's index: the broad phase
+//! The moving bodies' records, in a vector indexed by the body key's index: the broad phase
 //! looks at every moved body once per position update, and a hash map's scattered entries made
 //! that pass cost as much as the default broad phase's whole refit.
 
-use rapier3d::prelude::RigidBodyHandle;
+use crate::Key;
 
-/// Records of type `T` by rigid-body handle; a slot whose handle is stale (a body removed and
+/// Records of type `T` by body key; a slot whose handle is stale (a body removed and
 /// its index reused) counts as empty. The handles sit apart from the records, so that finding
 /// which body holds an index reads 8 bytes, not a whole record.
 #[derive(Clone, Debug)]
 pub(crate) struct ByBody<T> {
-    keys: Vec<Option<RigidBodyHandle>>,
+    keys: Vec<Option<Key>>,
     values: Vec<Option<T>>,
 }
 
@@ -22,12 +22,12 @@ impl<T> Default for ByBody<T> {
     }
 }
 
-fn index(h: RigidBodyHandle) -> usize {
-    h.into_raw_parts().0 as usize
+fn index(h: Key) -> usize {
+    h.index as usize
 }
 
 impl<T> ByBody<T> {
-    pub(crate) fn get(&self, h: RigidBodyHandle) -> Option<&T> {
+    pub(crate) fn get(&self, h: Key) -> Option<&T> {
         let i = index(h);
         match self.keys.get(i) {
             Some(Some(k)) if *k == h => self.values[i].as_ref(),
@@ -35,7 +35,7 @@ impl<T> ByBody<T> {
         }
     }
 
-    pub(crate) fn get_mut(&mut self, h: RigidBodyHandle) -> Option<&mut T> {
+    pub(crate) fn get_mut(&mut self, h: Key) -> Option<&mut T> {
         let i = index(h);
         match self.keys.get(i) {
             Some(Some(k)) if *k == h => self.values[i].as_mut(),
@@ -43,21 +43,17 @@ impl<T> ByBody<T> {
         }
     }
 
-    /// The handle of the body whose record is at index `i`, if any.
-    pub(crate) fn handle_at(&self, i: usize) -> Option<RigidBodyHandle> {
+    /// The key of the body whose record is at index `i`, if any.
+    pub(crate) fn key_at(&self, i: usize) -> Option<Key> {
         *self.keys.get(i)?
     }
 
-    pub(crate) fn contains(&self, h: RigidBodyHandle) -> bool {
+    pub(crate) fn contains(&self, h: Key) -> bool {
         self.get(h).is_some()
     }
 
     /// The record of `h`, made by `make` if it has none (a stale one is replaced).
-    pub(crate) fn get_or_insert_with(
-        &mut self,
-        h: RigidBodyHandle,
-        make: impl FnOnce() -> T,
-    ) -> &mut T {
+    pub(crate) fn get_or_insert_with(&mut self, h: Key, make: impl FnOnce() -> T) -> &mut T {
         let i = index(h);
         if self.keys.len() <= i {
             self.keys.resize(i + 1, None);
@@ -70,7 +66,7 @@ impl<T> ByBody<T> {
         self.values[i].as_mut().expect("just filled")
     }
 
-    pub(crate) fn remove(&mut self, h: RigidBodyHandle) -> Option<T> {
+    pub(crate) fn remove(&mut self, h: Key) -> Option<T> {
         let i = index(h);
         if self.keys.get(i) != Some(&Some(h)) {
             return None;
@@ -79,7 +75,7 @@ impl<T> ByBody<T> {
         self.values[i].take()
     }
 
-    pub(crate) fn iter(&self) -> impl Iterator<Item = (RigidBodyHandle, &T)> {
+    pub(crate) fn iter(&self) -> impl Iterator<Item = (Key, &T)> {
         self.keys
             .iter()
             .zip(&self.values)
@@ -87,10 +83,10 @@ impl<T> ByBody<T> {
     }
 }
 
-impl<T> std::ops::Index<RigidBodyHandle> for ByBody<T> {
+impl<T> std::ops::Index<Key> for ByBody<T> {
     type Output = T;
 
-    fn index(&self, h: RigidBodyHandle) -> &T {
+    fn index(&self, h: Key) -> &T {
         self.get(h).expect("a record for the body")
     }
 }
@@ -102,10 +98,7 @@ mod tests {
     #[test]
     fn a_reused_index_is_a_different_body() {
         let mut m: ByBody<u32> = ByBody::default();
-        let (a, a2) = (
-            RigidBodyHandle::from_raw_parts(3, 0),
-            RigidBodyHandle::from_raw_parts(3, 1),
-        );
+        let (a, a2) = (Key::new(3, 0), Key::new(3, 1));
         *m.get_or_insert_with(a, || 7) += 1;
         assert_eq!(m.get(a), Some(&8));
         assert_eq!(m.get(a2), None);

@@ -1,11 +1,11 @@
-//! The pairs handed to rapier: the structure's candidate pairs, counted as the structure adds
-//! and drops them, turned into `AddPair` and `DeletePair` events by rapier's rules.
+//! The pairs handed to the engine: the structure's candidate pairs, counted as the structure adds
+//! and drops them, turned into add and delete events.
 //!
-//! A candidate is handed to rapier (`AddPair`) in a call whose window (the positions' time to
+//! A candidate is handed to the engine (added) in a call whose window (the positions' time to
 //! the end of the step the structure has looked ahead over) it is a candidate in at any
 //! moment, if the two proxies can meet within that window: two balls whose centres come within
 //! the sum of their radii ([`proxies_meet`]), or any other two shapes (their boxes overlap, or
-//! they would not be candidates). It is deleted (`DeletePair`) in a later call whose whole
+//! they would not be candidates). It is deleted in a later call whose whole
 //! window it is absent from: it stopped being a candidate before the positions' time and has
 //! not come back by the window's end, or its two balls stay apart over the whole window.
 
@@ -18,7 +18,7 @@ use rustc_hash::FxHashMap;
 struct PairState {
     /// How many reasons the structure has to keep the pair (0: none now).
     count: i32,
-    /// Whether rapier has it (an `AddPair` went out and no `DeletePair` since).
+    /// Whether the engine has it (an add went out and no delete since).
     reported: bool,
     /// When its count last fell to 0.
     dropped_at: Real,
@@ -40,7 +40,7 @@ pub(crate) struct Gate {
     pub(crate) wake: Real,
 }
 
-/// What the pair book asks rapier to do.
+/// What the pair book asks the engine to do.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub(crate) enum PairOut {
     Add(u32, u32),
@@ -51,7 +51,7 @@ pub(crate) enum PairOut {
 #[derive(Debug, Default)]
 pub(crate) struct PairBook {
     pairs: FxHashMap<(u32, u32), PairState>,
-    /// Pairs whose count fell to 0 and that rapier may still have.
+    /// Pairs whose count fell to 0 and that the engine may still have.
     dropped: Vec<(u32, u32)>,
     reported: usize,
     /// Whether the structure changed a pair since [`PairBook::take_changed`].
@@ -80,7 +80,7 @@ impl PairBook {
         }
     }
 
-    /// Forgets every pair of collider `id` without events (it was removed: rapier drops its
+    /// Forgets every pair of collider `id` without events (it was removed: the engine drops its
     /// pairs itself). `changes` holds the structure's drops for its removal.
     pub(crate) fn forget(&mut self, id: u32, changes: &mut Vec<PairChange>) {
         self.changed = true;
@@ -165,7 +165,7 @@ impl PairBook {
         std::mem::take(&mut self.changed)
     }
 
-    /// Pairs rapier has.
+    /// Pairs the engine has.
     pub(crate) fn reported(&self) -> usize {
         self.reported
     }
@@ -190,7 +190,7 @@ impl PairBook {
             }
             if settled && e.count > 0 && !e.reported && meet(a, b) {
                 return Err(format!(
-                    "pair ({a}, {b}) is a candidate rapier does not have"
+                    "pair ({a}, {b}) is a candidate the engine does not have"
                 ));
             }
             reported += usize::from(e.reported);
@@ -204,7 +204,7 @@ impl PairBook {
         Ok(())
     }
 
-    /// Whether rapier has pair `(a, b)` by this book.
+    /// Whether the engine has pair `(a, b)` by this book.
     pub(crate) fn has(&self, a: u32, b: u32) -> bool {
         self.pairs
             .get(&ordered_pair(a, b))
@@ -377,7 +377,7 @@ mod tests {
     }
 
     #[test]
-    fn a_candidate_goes_to_rapier_only_while_its_proxies_can_meet() {
+    fn a_candidate_goes_to_the_engine_only_while_its_proxies_can_meet() {
         let mut book = PairBook::default();
         let mut out = Vec::new();
         book.apply(&mut vec![change(0, 1, 1)], 0.0);
@@ -504,7 +504,7 @@ mod tests {
         assert!((until - 0.2f64.sqrt()).abs() < 1e-6, "{until}");
     }
 
-    /// A resting slab 20 wide and 1 thick, its top at 0 (as rapier's ground).
+    /// A resting slab 20 wide and 1 thick, its top at 0 (a ground).
     fn slab() -> Body {
         Body {
             shape: kinetic_flight::ConvexShape::cuboid(Vec3::new(10.0, 0.5, 10.0))

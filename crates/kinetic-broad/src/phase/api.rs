@@ -1,19 +1,21 @@
 //! Building a broad phase and asking it about itself.
 
-use super::{BroadPhaseStats, Clock, KineticBroadPhase, StepStats};
+use super::{BroadPhaseCore, BroadPhaseStats, Clock, StepStats};
 use crate::motions::ByBody;
 use crate::pairs::PairBook;
+use crate::{Key, Slack};
 use kinetic_core::Real;
 use kinetic_flight::Choice;
-use rapier3d::prelude::*;
 
-impl KineticBroadPhase {
+impl BroadPhaseCore {
     /// A broad phase that picks its structure from the first colliders it is given.
-    pub fn new() -> KineticBroadPhase {
-        KineticBroadPhase {
+    pub fn new() -> BroadPhaseCore {
+        BroadPhaseCore {
             choice: None,
-            slack_fraction: 0.05,
-            min_slack: 1e-3,
+            slack: Slack {
+                fraction: 0.05,
+                min: 1e-3,
+            },
             structure: None,
             bodies: Vec::new(),
             plans: Vec::new(),
@@ -37,23 +39,25 @@ impl KineticBroadPhase {
     }
 
     /// The same broad phase with the structure chosen by the caller.
-    pub fn with_structure(mut self, choice: Choice) -> KineticBroadPhase {
+    pub fn with_structure(mut self, choice: Choice) -> BroadPhaseCore {
         self.choice = Some(choice);
         self
     }
 
     /// The same broad phase with another slack: a moving body may stray `fraction` of its
-    /// size (at least `min` length units) from its plan before it is re-planned. More slack,
+    /// size (at least `min` length units; the engine may scale it to its own unit) from its plan before it is re-planned. More slack,
     /// fewer re-plans and more pairs. Default 0.05 and 0.001.
-    pub fn with_slack(mut self, fraction: f32, min: f32) -> KineticBroadPhase {
-        self.slack_fraction = fraction.max(0.0) as Real;
-        self.min_slack = min.max(1e-9) as Real;
+    pub fn with_slack(mut self, fraction: Real, min: Real) -> BroadPhaseCore {
+        self.slack = Slack {
+            fraction: fraction.max(0.0),
+            min: min.max(1e-9),
+        };
         self
     }
 
     /// The same broad phase, auditing itself after every event of its structure (slow; for
-    /// tests). The first failure is kept: see [`KineticBroadPhase::audit_error`].
-    pub fn with_audit(mut self) -> KineticBroadPhase {
+    /// tests). The first failure is kept: see [`BroadPhaseCore::audit_error`].
+    pub fn with_audit(mut self) -> BroadPhaseCore {
         self.audit = true;
         self
     }
@@ -88,9 +92,26 @@ impl KineticBroadPhase {
         self.structure.as_ref().map_or(Vec::new(), |s| s.counters())
     }
 
-    /// Whether rapier has the pair of these two colliders by this broad phase.
-    pub fn has_pair(&self, a: ColliderHandle, b: ColliderHandle) -> bool {
-        let (ia, ib) = (a.into_raw_parts().0, b.into_raw_parts().0);
-        self.known(a) && self.known(b) && self.book.has(ia, ib)
+    /// The slack a moving body is given ([`BroadPhaseCore::with_slack`]).
+    pub fn slack(&self) -> Slack {
+        self.slack
+    }
+
+    /// Whether the engine has the pair of these two colliders by this broad phase.
+    pub fn has_pair(&self, a: Key, b: Key) -> bool {
+        self.knows(a) && self.knows(b) && self.book.has(a.index, b.index)
+    }
+
+    /// Whether collider `c` is held.
+    pub fn knows(&self, c: Key) -> bool {
+        self.proxies
+            .get(c.index as usize)
+            .and_then(|p| p.as_ref())
+            .is_some_and(|p| p.key == c)
+    }
+
+    /// The number of colliders held.
+    pub fn held(&self) -> usize {
+        self.proxies.iter().flatten().count()
     }
 }

@@ -1,11 +1,10 @@
-//! Bodies' flight plans: fitted to rapier's integrator, kept while a body stays within its
+//! Bodies' flight plans: fitted to the engine's integrator, kept while a body stays within its
 //! slack, and the slack grown for a body that keeps re-planning.
 
+use super::{BroadPhaseCore, Motion};
 use super::{CALM_UPDATES, MAX_GROWTH, REST_STEPS, RESTLESS_RUN, RESTLESS_UPDATES};
-use super::{KineticBroadPhase, Motion};
-use crate::proxy::{Hold, centre_of_mass, dvec, fit};
+use crate::{BodyState, Engine, Hold, Key, Step, fit};
 use kinetic_core::{FlightPlan, Real, Vec3};
-use rapier3d::prelude::*;
 
 impl Motion {
     /// How much its base slack is grown: `2^growth`.
@@ -19,7 +18,7 @@ impl Motion {
     }
 
     /// Whether the body, at `x` with velocity `v` at time `t`, keeps its plan: within its
-    /// slack of it now, and by the end of the step (`dt`) on the path rapier gives it if
+    /// slack of it now, and by the end of the step (`dt`) on the path the engine gives it if
     /// nothing touches it ([`fit`], evaluated without building the plan).
     pub(super) fn keeps_plan(&self, x: Vec3, v: Vec3, t: Real, dt: Real, substeps: Real) -> bool {
         let slack = self.slack_now();
@@ -34,23 +33,18 @@ impl Motion {
     }
 }
 
-impl KineticBroadPhase {
+impl BroadPhaseCore {
     /// Starts a motion record for a body seen for the first time, resting where it is.
-    pub(super) fn motion_for(
-        &mut self,
-        h: RigidBodyHandle,
-        rb: &RigidBody,
-        slack: Real,
-    ) -> &mut Motion {
+    pub(super) fn motion_for(&mut self, h: Key, rb: &BodyState, slack: Real) -> &mut Motion {
         let t = self.clock.pos;
         let m = self.motions.get_or_insert_with(h, || Motion {
-            plan: FlightPlan::at_rest(centre_of_mass(rb)).starting_at(t),
+            plan: FlightPlan::at_rest(rb.centre).starting_at(t),
             slack,
             growth: 0,
             replanned: 0,
             restless: 0,
             colliders: Vec::new(),
-            last_v: dvec(rb.linvel()),
+            last_v: rb.velocity,
             seen: u64::MAX,
             last_a: None,
             steady_a: Vec3::ZERO,
@@ -96,22 +90,21 @@ impl KineticBroadPhase {
     /// slack ([`Motion::keeps_plan`], checked by the caller) or, `first`, one seen for the
     /// first time (which does not count as a re-plan towards its slack growing). Returns
     /// whether the slack changed with it (and so the size of the body's proxies); `None`
-    /// for a body rapier no longer has.
+    /// for a body the engine no longer has.
     pub(super) fn refit(
         &mut self,
-        h: RigidBodyHandle,
-        bodies: &RigidBodySet,
-        params: &IntegrationParameters,
+        h: Key,
+        engine: &impl Engine,
+        step: Step,
         first: bool,
     ) -> Option<bool> {
-        let rb = bodies.get(h)?;
+        let rb = engine.body(h)?;
         let t = self.clock.pos;
-        let dt = self.clock.dt.max(params.dt as Real);
+        let dt = self.clock.dt.max(step.dt);
         let m = self.motions.get_mut(h).expect("a motion");
-        let x = centre_of_mass(rb);
-        let v = dvec(rb.linvel());
-        let substeps = params.num_solver_iterations.get() as Real;
-        // Where rapier will put it by the end of the step if nothing touches it.
+        let (x, v) = (rb.centre, rb.velocity);
+        let substeps = step.substeps;
+        // Where the engine will put it by the end of the step if nothing touches it.
         let ballistic = fit(x, v, m.steady_a, t, dt, substeps);
         // A body that sleeps, or would stay within half its slack for the next
         // REST_STEPS steps (one resting in a pile), is planned at rest: its box ends then
@@ -145,7 +138,7 @@ impl KineticBroadPhase {
         }
         m.growth = growth;
         m.replanned = update;
-        let plan = if rb.is_sleeping() || drift <= m.slack_now() / 2.0 {
+        let plan = if rb.sleeping || drift <= m.slack_now() / 2.0 {
             FlightPlan::at_rest(x).starting_at(t)
         } else {
             ballistic
@@ -161,7 +154,7 @@ impl KineticBroadPhase {
 
     /// Gives the structure body `h`'s new plan for each of its colliders; `resized`: with
     /// proxies of a new size (its slack changed).
-    pub(super) fn replan(&mut self, h: RigidBodyHandle, resized: bool) {
+    pub(super) fn replan(&mut self, h: Key, resized: bool) {
         self.stats.replans += 1;
         self.step.replans += 1;
         let level = self.clock.kds == self.clock.pos;

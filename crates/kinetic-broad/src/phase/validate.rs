@@ -1,21 +1,25 @@
 //! The audit: the invariants recomputed from scratch.
 
-use super::{Clock, KineticBroadPhase, Proxy};
+use super::{BroadPhaseCore, Clock, Proxy};
 use crate::pairs::proxies_meet;
-use crate::proxy::centre_of_mass;
+use crate::{Engine, Key, Seen};
 use kinetic_core::Body;
-use rapier3d::prelude::*;
 
-impl KineticBroadPhase {
-    /// Recomputes the invariants from scratch: the structure's own, the pair book's, every
-    /// enabled collider held, every moving body within its slack of its plan.
-    pub fn validate(&self, colliders: &ColliderSet, bodies: &RigidBodySet) -> Result<(), String> {
+impl BroadPhaseCore {
+    /// Recomputes the invariants from scratch, between calls: the structure's own, the pair
+    /// book's, every enabled collider of `colliders` (all the engine has) held, every moving
+    /// body within its slack of its plan.
+    pub fn validate(
+        &self,
+        engine: &impl Engine,
+        colliders: impl IntoIterator<Item = Key>,
+    ) -> Result<(), String> {
         if let Some(s) = &self.structure {
             s.validate(&self.bodies, self.clock.kds)?;
         }
         self.book.audit(true, meet(&self.bodies, self.clock))?;
-        for (h, co) in colliders.iter() {
-            if co.is_enabled() && !self.known(h) {
+        for h in colliders {
+            if matches!(engine.collider(h, self.slack), Seen::Held(_)) && !self.knows(h) {
                 return Err(format!("collider {h:?} is not held"));
             }
         }
@@ -29,8 +33,8 @@ impl KineticBroadPhase {
             }
         }
         for (h, m) in self.motions.iter() {
-            let Some(rb) = bodies.get(h) else { continue };
-            let off = (centre_of_mass(rb) - m.plan.position_at(self.clock.pos)).length();
+            let Some(rb) = engine.body(h) else { continue };
+            let off = (rb.centre - m.plan.position_at(self.clock.pos)).length();
             if off > m.slack_now() * (1.0 + 1e-6) {
                 return Err(format!(
                     "body {h:?} is {off} from its plan, slack {}",

@@ -1,25 +1,26 @@
-//! rapier's call: the user's changes and the bodies moved, then the structure's events over
-//! the coming step and the pairs handed over.
+//! The engine's call: the user's changes and the bodies moved, then the structure's events
+//! over the coming step and the pairs handed over.
 
-use super::{KineticBroadPhase, StepStats};
+use super::{BroadPhaseCore, StepStats};
 use crate::pairs::{Gate, PairOut, proxies_gate};
-use crate::proxy::{Hold, centre_of_mass, dvec};
+use crate::{Engine, Hold, Key, PairEvent, Seen, Step};
 use kinetic_core::{FlightPlan, Real, Vec3};
-use rapier3d::prelude::*;
 
-impl BroadPhase for KineticBroadPhase {
-    fn update(
+impl BroadPhaseCore {
+    /// One call of the engine: at the start of a step (the user's changes, positions
+    /// unchanged) or after a position update of `step.dt` (the updates of one step together
+    /// one step long). `modified`: the colliders added, changed or moved since the last call;
+    /// `removed`: those removed (their pairs go without events). The pairs to add and delete
+    /// are pushed onto `events`, sorted.
+    pub fn update(
         &mut self,
-        params: &IntegrationParameters,
-        colliders: &ColliderSet,
-        bodies: &RigidBodySet,
-        modified_colliders: &[ColliderHandle],
-        removed_colliders: &[ColliderHandle],
-        events: &mut Vec<BroadPhasePairEvent>,
+        step: Step,
+        engine: &impl Engine,
+        modified_colliders: &[Key],
+        removed_colliders: &[Key],
+        events: &mut Vec<PairEvent>,
     ) {
-        // rapier 0.27: one call with the user's changes at the start of a step, then one after
-        // each position update, the updates together one step long.
-        let dt = params.dt as Real;
+        let dt = step.dt;
         let starts_step = !self.clock.in_step;
         if starts_step {
             self.clock.dt = dt;
@@ -43,14 +44,13 @@ impl BroadPhase for KineticBroadPhase {
         }
 
         let mut new = Vec::new();
-        let mut moved: Vec<RigidBodyHandle> = Vec::new();
+        let mut moved: Vec<Key> = Vec::new();
         for &h in modified_colliders {
             if !starts_step {
                 // After a position update a held collider has only moved with its body (only
                 // the user changes shapes, parents and body types, at the start of a step).
-                let (i, generation) = h.into_raw_parts();
-                if let Some(Some((g, body))) = self.movers.get(i as usize)
-                    && *g == generation
+                if let Some(Some((g, body))) = self.movers.get(h.index as usize)
+                    && *g == h.generation
                 {
                     if *body != u32::MAX {
                         let (word, bit) = (*body as usize / 64, *body % 64);
@@ -62,18 +62,20 @@ impl BroadPhase for KineticBroadPhase {
                     continue;
                 }
             }
-            let Some(co) = colliders.get(h) else { continue };
-            if !co.is_enabled() {
-                self.remove_collider(h);
-                continue;
-            }
-            if !self.known(h) {
+            let hold = match engine.collider(h, self.slack) {
+                Seen::Missing => continue,
+                Seen::Disabled => {
+                    self.remove_collider(h);
+                    continue;
+                }
+                Seen::Held(hold) => hold,
+            };
+            if !self.knows(h) {
                 new.push(h);
                 continue;
             }
-            let i = h.into_raw_parts().0 as usize;
+            let i = h.index as usize;
             let held = self.proxies[i].expect("known").hold;
-            let hold = Hold::of(co, bodies, params, self.slack_fraction, self.min_slack);
             if !held.same(&hold) {
                 // A new shape, body or body type: held afresh.
                 self.detach(i as u32, false);
@@ -86,27 +88,27 @@ impl BroadPhase for KineticBroadPhase {
         // Bodies that moved: what they showed of their acceleration, then their plans.
         let mut seen_moving = 0;
         let step_dt = self.clock.dt.max(dt);
-        let substeps = params.num_solver_iterations.get() as Real;
+        let substeps = step.substeps;
         for word in 0..self.moved_bits.len() {
             while self.moved_bits[word] != 0 {
                 let bits = self.moved_bits[word];
                 self.moved_bits[word] = bits & (bits - 1);
                 let index = word * 64 + bits.trailing_zeros() as usize;
-                let Some(b) = self.motions.handle_at(index) else {
+                let Some(b) = self.motions.key_at(index) else {
                     continue;
                 };
                 moved.push(b);
             }
         }
         for &b in &moved {
-            let Some(rb) = bodies.get(b) else { continue };
             let Some(m) = self.motions.get_mut(b) else {
                 continue;
             };
             if m.seen == update && !starts_step {
                 continue;
             }
-            let v = dvec(rb.linvel());
+            let Some(rb) = engine.body(b) else { continue };
+            let v = rb.velocity;
             if !starts_step {
                 if m.seen.wrapping_add(1) == update {
                     let a = (v - m.last_v) / dt;
@@ -131,11 +133,11 @@ impl BroadPhase for KineticBroadPhase {
                 m.seen = update;
             }
             // Most bodies keep their plans: checked here, with no second look-up.
-            if m.keeps_plan(centre_of_mass(rb), v, self.clock.pos, step_dt, substeps) {
+            if m.keeps_plan(rb.centre, v, self.clock.pos, step_dt, substeps) {
                 seen_moving += usize::from(m.listed && m.seen == update);
                 continue;
             }
-            if let Some(resized) = self.refit(b, bodies, params, false) {
+            if let Some(resized) = self.refit(b, engine, step, false) {
                 self.replan(b, resized);
             }
             if self
@@ -146,7 +148,7 @@ impl BroadPhase for KineticBroadPhase {
                 seen_moving += 1;
             }
         }
-        self.install(&new, colliders, bodies, params, update);
+        self.install(&new, engine, step, update);
 
         // Unless every moving body moved in this update, some went to sleep or stopped.
         if !starts_step && seen_moving < self.moving.len() {
@@ -155,10 +157,11 @@ impl BroadPhase for KineticBroadPhase {
             while k < self.moving.len() {
                 let b = self.moving[k];
                 let seen = self.motions.get(b).is_some_and(|m| m.seen == update);
-                if !seen && bodies.contains(b) {
+                let state = if seen { None } else { engine.body(b) };
+                if let Some(state) = state {
                     let t = self.clock.pos;
                     let m = self.motions.get_mut(b).expect("listed");
-                    let x = centre_of_mass(&bodies[b]);
+                    let x = state.centre;
                     m.plan = FlightPlan::at_rest(x).starting_at(t);
                     m.listed = false;
                     m.last_a = None;
@@ -223,21 +226,18 @@ impl BroadPhase for KineticBroadPhase {
             let (Some(pa), Some(pb)) = (self.proxies[a as usize], self.proxies[b as usize]) else {
                 continue;
             };
-            let pair = ColliderPair::new(pa.handle, pb.handle);
             if add {
                 self.stats.added += 1;
                 self.step.added += 1;
-                events.push(BroadPhasePairEvent::AddPair(pair));
+                events.push(PairEvent::Add(pa.key, pb.key));
             } else {
                 self.stats.deleted += 1;
                 self.step.deleted += 1;
-                events.push(BroadPhasePairEvent::DeletePair(pair));
+                events.push(PairEvent::Delete(pa.key, pb.key));
             }
         }
     }
-}
 
-impl KineticBroadPhase {
     /// Runs the structure's events up to `t`.
     fn advance(&mut self, t: Real) {
         let Some(s) = self.structure.as_mut() else {

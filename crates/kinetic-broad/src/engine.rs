@@ -1,0 +1,72 @@
+//! What the broad phase asks of a physics engine, and what it hands back.
+
+use crate::{Hold, Slack};
+use kinetic_core::{Real, Vec3};
+
+/// An engine's key for a collider or a body: a dense index that the engine may reuse once the
+/// thing is gone, and a generation that tells a reused index apart. Rapier's handles and
+/// Bevy's entities are both of this kind.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Key {
+    /// The index: the broad phase keeps a slot per index, so keep them dense.
+    pub index: u32,
+    /// The generation of the index.
+    pub generation: u32,
+}
+
+impl Key {
+    /// The key of index `index` in generation `generation`.
+    pub const fn new(index: u32, generation: u32) -> Key {
+        Key { index, generation }
+    }
+}
+
+/// What the engine says of a collider the broad phase asks about.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Seen {
+    /// The engine has no such collider (it was removed and its removal comes later).
+    Missing,
+    /// The collider is there but takes no part in collisions: it is dropped.
+    Disabled,
+    /// The collider and how it is held now ([`Hold::moving`] or [`Hold::fixed`]).
+    Held(Hold),
+}
+
+/// A moving body as the engine has it now.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodyState {
+    /// Its centre of mass in world space, at its current pose.
+    pub centre: Vec3,
+    /// Its linear velocity.
+    pub velocity: Vec3,
+    /// Whether the engine has put it to sleep.
+    pub sleeping: bool,
+}
+
+/// The engine's view of its colliders and bodies, asked during an update.
+pub trait Engine {
+    /// How collider `c` is held now, with `slack` for a moving body.
+    fn collider(&self, c: Key, slack: Slack) -> Seen;
+    /// Body `b`'s state, or `None` if the engine has no such body.
+    fn body(&self, b: Key) -> Option<BodyState>;
+}
+
+/// The engine's step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Step {
+    /// Its length in time.
+    pub dt: Real,
+    /// How many substeps its integrator splits it into (1 for none): the plans are fitted
+    /// to that integrator ([`crate::fit`]).
+    pub substeps: Real,
+}
+
+/// What an update asks the engine to do with a pair of colliders; the lower index comes
+/// first.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum PairEvent {
+    /// The two colliders' proxies can meet within the step: test the pair.
+    Add(Key, Key),
+    /// They cannot any more: the pair can go.
+    Delete(Key, Key),
+}

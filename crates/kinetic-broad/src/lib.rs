@@ -1,0 +1,31 @@
+//! # kinetic-broad
+//!
+//! The kinetic broad phase, engine by engine the same: colliders as proxies in a kinetic
+//! structure of `kinetic-flight`, bodies on flight plans fitted to the engine's integrator,
+//! and the pairs whose proxies can meet within the coming step handed to the engine. The
+//! adapters are thin: `kinetic-rapier` (rapier3d 0.27's `BroadPhase`) and `kinetic-avian`
+//! (a plugin for avian3d 0.8) each implement [`Engine`] over their engine's sets and turn
+//! [`PairEvent`]s into its pair events.
+//!
+//! - [`Hold`]: how a collider is held (a ball about a moving body's centre of mass with a
+//!   slack, or a fixed collider's box).
+//! - [`BroadPhaseCore`]: the proxies, the bodies' plans (a body that stays within its slack
+//!   keeps its plan; one that keeps re-planning has its slack grown), the structure's events
+//!   over each step in time order, and the pair book that turns candidates into events.
+//!
+//! An engine calls [`BroadPhaseCore::update`] once at the start of each step (the user's
+//! changes, positions unchanged) and once after each position update, the updates together
+//! one step long.
+#![warn(missing_docs)]
+#![forbid(unsafe_code)]
+
+mod engine;
+mod hold;
+mod motions;
+mod pairs;
+mod phase;
+
+pub use engine::{BodyState, Engine, Key, PairEvent, Seen, Step};
+pub use hold::{Hold, Slack, fit};
+pub use kinetic_flight::Choice;
+pub use phase::{BroadPhaseCore, BroadPhaseStats, StepStats};

@@ -1,0 +1,196 @@
+//! The core's own tests (its private tables), on a toy engine: balls falling onto a ground
+//! under a semi-implicit Euler integrator, coming to rest on it.
+
+use super::*;
+use crate::{BodyState, Engine, PairEvent, Seen, Step};
+
+/// A collider of the toy engine: a ball on a body, or a fixed box.
+#[derive(Clone, Copy)]
+enum Part {
+    Ball { body: Key, radius: Real },
+    Box { min: Vec3, max: Vec3 },
+}
+
+#[derive(Default)]
+struct Toy {
+    bodies: Vec<(Key, BodyState)>,
+    colliders: Vec<(Key, Part, bool)>,
+    /// Colliders changed since the last call, and removed.
+    modified: Vec<Key>,
+    removed: Vec<Key>,
+    /// The pairs the toy's narrow phase holds.
+    pairs: Vec<(Key, Key)>,
+}
+
+const STEP: Step = Step {
+    dt: 1.0 / 60.0,
+    substeps: 1.0,
+};
+
+impl Engine for Toy {
+    fn collider(&self, c: Key, slack: Slack) -> Seen {
+        match self.colliders.iter().find(|(k, ..)| *k == c) {
+            None => Seen::Missing,
+            Some((_, _, false)) => Seen::Disabled,
+            Some((_, Part::Ball { body, radius }, true)) => {
+                Seen::Held(Hold::moving(*body, *radius, 0.01, slack))
+            }
+            Some((_, Part::Box { min, max }, true)) => Seen::Held(Hold::fixed(*min, *max, 0.01)),
+        }
+    }
+
+    fn body(&self, b: Key) -> Option<BodyState> {
+        self.bodies.iter().find(|(k, _)| *k == b).map(|(_, s)| *s)
+    }
+}
+
+impl Toy {
+    /// A ground (its top at 0) and balls of radius 0.5 on bodies at `xs`, 1 up.
+    fn new(xs: &[Real]) -> Toy {
+        let mut toy = Toy::default();
+        let ground = Key::new(0, 0);
+        let part = Part::Box {
+            min: Vec3::new(-50.0, -1.0, -50.0),
+            max: Vec3::new(50.0, 0.0, 50.0),
+        };
+        toy.colliders.push((ground, part, true));
+        for (k, &x) in xs.iter().enumerate() {
+            let body = Key::new(k as u32, 0);
+            let state = BodyState {
+                centre: Vec3::new(x, 1.0, 0.0),
+                velocity: Vec3::ZERO,
+                sleeping: false,
+            };
+            toy.bodies.push((body, state));
+            let radius = 0.5;
+            toy.colliders
+                .push((Key::new(k as u32 + 1, 0), Part::Ball { body, radius }, true));
+        }
+        toy.modified = toy.colliders.iter().map(|(k, ..)| *k).collect();
+        toy
+    }
+
+    /// One step: the call with the user's changes, the bodies' motion (falling, stopped by
+    /// the ground), the call after the position update. Validates after each call.
+    fn step(&mut self, core: &mut BroadPhaseCore) {
+        let mut events = Vec::new();
+        let (modified, removed) = (
+            std::mem::take(&mut self.modified),
+            std::mem::take(&mut self.removed),
+        );
+        core.update(STEP, self, &modified, &removed, &mut events);
+        self.apply(&events);
+        self.check(core);
+        let mut moved = Vec::new();
+        for (body, s) in &mut self.bodies {
+            s.velocity.y -= 9.81 * STEP.dt;
+            s.centre += s.velocity * STEP.dt;
+            if s.centre.y < 0.5 {
+                s.centre.y = 0.5;
+                s.velocity = Vec3::ZERO;
+            }
+            moved.extend(
+                self.colliders
+                    .iter()
+                    .filter(|(_, p, _)| matches!(p, Part::Ball { body: b, .. } if b == body))
+                    .map(|(k, ..)| *k),
+            );
+        }
+        core.update(STEP, self, &moved, &[], &mut events);
+        self.apply(&events);
+        self.check(core);
+    }
+
+    fn apply(&mut self, events: &[PairEvent]) {
+        for e in events {
+            match *e {
+                PairEvent::Add(a, b) => {
+                    assert!(a.index < b.index, "{e:?} out of order");
+                    assert!(!self.pairs.contains(&(a, b)), "{e:?} added twice");
+                    self.pairs.push((a, b));
+                }
+                PairEvent::Delete(a, b) => {
+                    let at = self.pairs.iter().position(|p| *p == (a, b));
+                    self.pairs.swap_remove(at.expect("a pair the engine has"));
+                }
+            }
+        }
+    }
+
+    fn check(&self, core: &BroadPhaseCore) {
+        let keys = self.colliders.iter().map(|(k, ..)| *k);
+        core.validate(self, keys).expect("a valid broad phase");
+        assert_eq!(core.stats().pairs, self.pairs.len());
+    }
+
+    fn remove(&mut self, c: Key) {
+        self.colliders.retain(|(k, ..)| *k != c);
+        self.removed.push(c);
+    }
+}
+
+#[test]
+fn the_mover_table_follows_the_held_colliders_and_validate_checks_it() {
+    let mut toy = Toy::new(&[0.0, 2.0]);
+    let mut core = BroadPhaseCore::new().with_audit();
+    for _ in 0..5 {
+        toy.step(&mut core);
+    }
+    let (ground, ball, other) = (Key::new(0, 0), Key::new(1, 0), Key::new(2, 0));
+    assert_eq!(core.movers[ground.index as usize], Some((0, u32::MAX)));
+    assert_eq!(core.movers[ball.index as usize], Some((0, 0)));
+    // A stale entry (the ball taken for fixed) is caught.
+    let kept = core.movers[ball.index as usize];
+    core.movers[ball.index as usize] = Some((0, u32::MAX));
+    let keys: Vec<Key> = toy.colliders.iter().map(|(k, ..)| *k).collect();
+    let err = core
+        .validate(&toy, keys.iter().copied())
+        .expect_err("a stale mover entry");
+    assert!(err.contains("mover"), "{err}");
+    core.movers[ball.index as usize] = kept;
+    // A removed collider leaves no entry and its pairs go silently; the other ball still
+    // falls, is re-planned, and comes to rest on the ground with its pair handed over.
+    toy.remove(other);
+    for _ in 0..60 {
+        toy.step(&mut core);
+    }
+    assert_eq!(core.movers[other.index as usize], None);
+    assert!(!core.knows(other));
+    assert!(core.stats().replans > 0);
+    assert!(core.has_pair(ground, ball));
+    assert_eq!(toy.pairs, vec![(ground, ball)]);
+    assert_eq!(core.audit_error(), None);
+}
+
+#[test]
+fn resting_bodies_cost_nothing_and_a_disabled_collider_drops_out() {
+    let mut toy = Toy::new(&[0.0, 3.0, 6.0]);
+    let mut core = BroadPhaseCore::new().with_audit();
+    for _ in 0..120 {
+        toy.step(&mut core);
+    }
+    // All three rest on the ground: planned at rest, no events, no re-plans.
+    let before = core.stats();
+    for _ in 0..30 {
+        toy.step(&mut core);
+        assert_eq!(core.last_step().events, 0);
+        assert_eq!(core.last_step().replans, 0);
+    }
+    assert_eq!(core.stats().replans, before.replans);
+    assert_eq!(toy.pairs.len(), 3);
+    // The balls are 3 apart: never a pair between two of them.
+    assert!(toy.pairs.iter().all(|(a, _)| a.index == 0));
+    // Disabling a collider drops it and its pair without an event.
+    let middle = Key::new(2, 0);
+    toy.colliders
+        .iter_mut()
+        .find(|(k, ..)| *k == middle)
+        .expect("held")
+        .2 = false;
+    toy.modified.push(middle);
+    toy.pairs.retain(|(_, b)| *b != middle);
+    toy.step(&mut core);
+    assert!(!core.knows(middle));
+    assert_eq!(core.held(), 3);
+    assert_eq!(core.audit_error(), None);
+}

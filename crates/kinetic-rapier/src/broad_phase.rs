@@ -1,0 +1,234 @@
+//! rapier3d 0.27's [`BroadPhase`] over the engine-agnostic core: rapier's sets seen as an
+//! [`Engine`], its handles as [`Key`]s, the core's pairs as rapier's pair events.
+
+use kinetic_broad::{
+    BodyState, BroadPhaseCore, BroadPhaseStats, Choice, Engine, Hold, Key, PairEvent, Seen, Slack,
+    Step, StepStats,
+};
+use kinetic_core::{Real, Vec3};
+use rapier3d::prelude::*;
+
+/// The kinetic broad phase for rapier3d 0.27: implements its [`BroadPhase`].
+#[derive(Debug, Default)]
+pub struct KineticBroadPhase {
+    core: BroadPhaseCore,
+    /// The parameters of the last step, for [`KineticBroadPhase::validate`].
+    params: Option<IntegrationParameters>,
+    /// Buffers reused from call to call.
+    modified: Vec<Key>,
+    removed: Vec<Key>,
+    events: Vec<PairEvent>,
+}
+
+/// rapier's sets as the core sees them.
+struct Rapier<'a> {
+    colliders: &'a ColliderSet,
+    bodies: &'a RigidBodySet,
+    params: &'a IntegrationParameters,
+}
+
+/// A collider handle as a key.
+fn key(h: ColliderHandle) -> Key {
+    let (index, generation) = h.into_raw_parts();
+    Key::new(index, generation)
+}
+
+/// A rigid-body handle as a key.
+fn body_key(h: RigidBodyHandle) -> Key {
+    let (index, generation) = h.into_raw_parts();
+    Key::new(index, generation)
+}
+
+/// Converts a rapier vector.
+fn dvec(v: &Vector<f32>) -> Vec3 {
+    Vec3::new(v.x as Real, v.y as Real, v.z as Real)
+}
+
+/// Converts a rapier point.
+fn dpoint(p: &Point<f32>) -> Vec3 {
+    Vec3::new(p.x as Real, p.y as Real, p.z as Real)
+}
+
+/// A rigid body's centre of mass in world space, from its current pose (rapier refreshes its
+/// own world centre of mass only at the end of a step, after the broad phase has run).
+fn centre_of_mass(rb: &RigidBody) -> Vec3 {
+    dpoint(&(rb.position() * rb.local_center_of_mass()))
+}
+
+/// How `co` is held under `params`: a ball about its body's centre of mass when the body
+/// moves, its own box otherwise, both grown by half the prediction distance and the contact
+/// skin. The least slack is in rapier's length unit.
+fn hold_of(
+    co: &Collider,
+    bodies: &RigidBodySet,
+    params: &IntegrationParameters,
+    slack: Slack,
+) -> Hold {
+    let margin = params.prediction_distance() as Real / 2.0 + co.contact_skin() as Real;
+    let moving = co
+        .parent()
+        .and_then(|h| bodies.get(h).map(|rb| (h, rb)))
+        .filter(|(_, rb)| !rb.is_fixed());
+    match moving {
+        None => {
+            let aabb = co.compute_aabb();
+            Hold::fixed(dpoint(&aabb.mins), dpoint(&aabb.maxs), margin)
+        }
+        Some((h, rb)) => {
+            let sphere = co.shape().compute_bounding_sphere(co.position());
+            let reach =
+                (dpoint(sphere.center()) - centre_of_mass(rb)).length() + sphere.radius() as Real;
+            let slack = Slack {
+                min: slack.min * params.length_unit as Real,
+                ..slack
+            };
+            Hold::moving(body_key(h), reach, margin, slack)
+        }
+    }
+}
+
+impl Engine for Rapier<'_> {
+    fn collider(&self, c: Key, slack: Slack) -> Seen {
+        let h = ColliderHandle::from_raw_parts(c.index, c.generation);
+        match self.colliders.get(h) {
+            None => Seen::Missing,
+            Some(co) if !co.is_enabled() => Seen::Disabled,
+            Some(co) => Seen::Held(hold_of(co, self.bodies, self.params, slack)),
+        }
+    }
+
+    fn body(&self, b: Key) -> Option<BodyState> {
+        let rb = self
+            .bodies
+            .get(RigidBodyHandle::from_raw_parts(b.index, b.generation))?;
+        Some(BodyState {
+            centre: centre_of_mass(rb),
+            velocity: dvec(rb.linvel()),
+            sleeping: rb.is_sleeping(),
+        })
+    }
+}
+
+impl BroadPhase for KineticBroadPhase {
+    /// rapier 0.27 calls it once with the user's changes at the start of a step, then once
+    /// after each position update, the updates together one step long.
+    fn update(
+        &mut self,
+        params: &IntegrationParameters,
+        colliders: &ColliderSet,
+        bodies: &RigidBodySet,
+        modified_colliders: &[ColliderHandle],
+        removed_colliders: &[ColliderHandle],
+        events: &mut Vec<BroadPhasePairEvent>,
+    ) {
+        self.params = Some(*params);
+        let engine = Rapier {
+            colliders,
+            bodies,
+            params,
+        };
+        let step = Step {
+            dt: params.dt as Real,
+            substeps: params.num_solver_iterations.get() as Real,
+        };
+        self.modified.clear();
+        self.modified
+            .extend(modified_colliders.iter().map(|&h| key(h)));
+        self.removed.clear();
+        self.removed
+            .extend(removed_colliders.iter().map(|&h| key(h)));
+        self.core.update(
+            step,
+            &engine,
+            &self.modified,
+            &self.removed,
+            &mut self.events,
+        );
+        let handle = |k: Key| ColliderHandle::from_raw_parts(k.index, k.generation);
+        events.extend(self.events.drain(..).map(|e| match e {
+            PairEvent::Add(a, b) => {
+                BroadPhasePairEvent::AddPair(ColliderPair::new(handle(a), handle(b)))
+            }
+            PairEvent::Delete(a, b) => {
+                BroadPhasePairEvent::DeletePair(ColliderPair::new(handle(a), handle(b)))
+            }
+        }));
+    }
+}
+
+impl KineticBroadPhase {
+    /// A broad phase that picks its structure from the first colliders it is given.
+    pub fn new() -> KineticBroadPhase {
+        KineticBroadPhase::default()
+    }
+
+    /// The same broad phase with the structure chosen by the caller.
+    pub fn with_structure(mut self, choice: Choice) -> KineticBroadPhase {
+        self.core = self.core.with_structure(choice);
+        self
+    }
+
+    /// The same broad phase with another slack: a moving body may stray `fraction` of its
+    /// size (at least `min` times rapier's length unit) from its plan before it is
+    /// re-planned. More slack, fewer re-plans and more pairs. Default 0.05 and 0.001.
+    pub fn with_slack(mut self, fraction: f32, min: f32) -> KineticBroadPhase {
+        self.core = self.core.with_slack(fraction as Real, min as Real);
+        self
+    }
+
+    /// The same broad phase, auditing itself after every event of its structure (slow; for
+    /// tests). The first failure is kept: see [`KineticBroadPhase::audit_error`].
+    pub fn with_audit(mut self) -> KineticBroadPhase {
+        self.core = self.core.with_audit();
+        self
+    }
+
+    /// The first failure of the audit, if any.
+    pub fn audit_error(&self) -> Option<&str> {
+        self.core.audit_error()
+    }
+
+    /// The structure in use (its registry name), or `"none"` before the first collider.
+    pub fn structure_name(&self) -> &'static str {
+        self.core.structure_name()
+    }
+
+    /// Figures over the whole run.
+    pub fn stats(&self) -> BroadPhaseStats {
+        self.core.stats()
+    }
+
+    /// Figures over the last physics step.
+    pub fn last_step(&self) -> StepStats {
+        self.core.last_step()
+    }
+
+    /// The structure's own figures (e.g. the sweep's box pairs, the guards' watches).
+    pub fn structure_counters(&self) -> Vec<(&'static str, f64)> {
+        self.core.structure_counters()
+    }
+
+    /// Whether rapier has the pair of these two colliders by this broad phase.
+    pub fn has_pair(&self, a: ColliderHandle, b: ColliderHandle) -> bool {
+        self.core.has_pair(key(a), key(b))
+    }
+
+    /// The engine-agnostic core it runs on.
+    pub fn core(&self) -> &BroadPhaseCore {
+        &self.core
+    }
+
+    /// Recomputes the invariants from scratch ([`BroadPhaseCore::validate`]): the
+    /// structure's, the pairs', every enabled collider held, every moving body within its
+    /// slack of its plan.
+    pub fn validate(&self, colliders: &ColliderSet, bodies: &RigidBodySet) -> Result<(), String> {
+        let params = self.params.unwrap_or_default();
+        let engine = Rapier {
+            colliders,
+            bodies,
+            params: &params,
+        };
+        self.core
+            .validate(&engine, colliders.iter().map(|(h, _)| key(h)))
+    }
+}
