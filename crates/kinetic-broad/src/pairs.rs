@@ -190,7 +190,9 @@ impl PairBook {
             }
             if settled && e.count > 0 && !e.reported && meet(a, b) {
                 return Err(format!(
-                    "pair ({a}, {b}) is a candidate the engine does not have"
+                    "pair ({a}, {b}) is a candidate the engine does not have (asked again at \
+                     {}, plans {:?})",
+                    e.wake, e.plans
                 ));
             }
             reported += usize::from(e.reported);
@@ -266,13 +268,25 @@ fn proxies_overlap_until(a: &Body, b: &Body, t0: Real) -> Real {
 }
 
 /// For proxies `a` and `b` that cannot meet between `t0` and `t1`, a time before which they
-/// cannot meet, at least `t1`: beyond the window, a lower bound from their outer balls (the
-/// gap now less the most the relative velocity and acceleration can close).
+/// cannot meet, at least `t1`: beyond the window, a lower bound from the balls about them
+/// (their own, or about their boxes), the gap now less the most the relative velocity and
+/// acceleration can close.
 fn apart_after(a: &Body, b: &Body, t0: Real, t1: Real) -> Real {
     let (pa, pb) = (a.plan.position_at(t0), b.plan.position_at(t0));
-    let reach = a.shape.outer_radius() + b.shape.outer_radius();
+    // Two balls meet when their centres come within the sum of the radii; other shapes when
+    // their boxes meet, and a box reaches as far as its corners (a ball's, r sqrt 3).
+    let reach = match (&a.shape, &b.shape) {
+        (Shape::Ball { radius: ra }, Shape::Ball { radius: rb }) => ra + rb,
+        _ => box_reach(a) + box_reach(b),
+    };
     let gap = (pa - pb).length() - reach - 2.0 * tolerance(a, b, pa, pb);
     time_to_cover(a, b, t0, gap).map_or(t1, |tau| t1.max(t0 + tau))
+}
+
+/// How far `body`'s box ([`Body::local_box`]) reaches from its centre.
+fn box_reach(body: &Body) -> Real {
+    let (lo, hi) = body.local_box();
+    lo.abs().max(hi.abs()).length()
 }
 
 /// The time before which proxies `a` and `b`, on their plans, cannot meet, looking from `t0`:
@@ -466,6 +480,26 @@ mod tests {
         let until = proxies_apart_until(&a, &b, 0.0, 1.0);
         assert!((until - 3.0).abs() < 1e-6, "{until}");
         assert_eq!(proxies_apart_until(&a, &b, 0.0, 3.5), Real::NEG_INFINITY);
+    }
+
+    #[test]
+    fn a_ball_coming_at_a_boxs_corner_is_not_woken_too_late() {
+        // A cube of half-width 0.5 at the origin and a ball of radius 1 coming along the
+        // diagonal: their boxes meet corner to corner when the ball's centre is at
+        // (1.5, 1.5, 1.5), at t = 3.5, before the two outer balls could touch.
+        let cube = Body {
+            shape: kinetic_flight::ConvexShape::cuboid(Vec3::splat(0.5))
+                .unwrap()
+                .into_shape(),
+            plan: FlightPlan::at_rest(Vec3::ZERO),
+        };
+        let ball = ball(1.0, FlightPlan::linear(Vec3::splat(5.0), Vec3::splat(-1.0)));
+        assert!(proxies_meet(&ball, &cube, 3.4, 3.6));
+        for (a, b) in [(&ball, &cube), (&cube, &ball)] {
+            let until = proxies_apart_until(a, b, 0.0, 1.0);
+            assert!((1.0..=3.5).contains(&until), "{until}");
+            assert!(!proxies_meet(a, b, 0.0, until));
+        }
     }
 
     #[test]

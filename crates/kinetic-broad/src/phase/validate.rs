@@ -17,7 +17,9 @@ impl BroadPhaseCore {
         if let Some(s) = &self.structure {
             s.validate(&self.bodies, self.clock.kds)?;
         }
-        self.book.audit(true, meet(&self.bodies, self.clock))?;
+        self.book
+            .audit(true, meet(&self.bodies, self.clock))
+            .map_err(|e| format!("{e}; window {} to {}", self.clock.pos, self.clock.kds))?;
         for h in colliders {
             if matches!(engine.collider(h, self.slack), Seen::Held(_)) && !self.knows(h) {
                 return Err(format!("collider {h:?} is not held"));

@@ -1,0 +1,82 @@
+//! Live pairs into avian's contact graph, filtered as avian's own broad phase filters them.
+
+use crate::view::AvianWorld;
+use avian3d::collider_tree::{ColliderTreeProxyFlags, ColliderTreeType};
+use avian3d::collision::contact_types::ContactEdgeFlags;
+use avian3d::prelude::*;
+use bevy::prelude::*;
+use kinetic_broad::Key;
+use std::collections::HashSet;
+
+/// Adds to `graph` every live pair whose colliders' enlarged boxes overlap and that it does not
+/// hold, unless avian's broad phase would filter it out; returns how many were added.
+pub(crate) fn add_overlapping(
+    live: &HashSet<(Key, Key)>,
+    world: &AvianWorld,
+    hooks: &impl CollisionHooks,
+    commands: &mut Commands,
+    graph: &mut ContactGraph,
+) -> u64 {
+    // In key order, so that the graph is built the same way every run.
+    let mut pairs: Vec<(Key, Key)> = live.iter().copied().collect();
+    pairs.sort_unstable();
+    let mut added = 0;
+    for (a, b) in pairs {
+        let (Some(c1), Some(c2)) = (world.collider_view(a), world.collider_view(b)) else {
+            continue;
+        };
+        if graph.contains(c1.entity, c2.entity) || !c1.enlarged.intersects(&c2.enlarged.get()) {
+            continue;
+        }
+        let (Some(k1), Some(k2)) = (c1.proxy, c2.proxy) else {
+            continue;
+        };
+        let (Some(p1), Some(p2)) = (world.trees.get_proxy(k1), world.trees.get_proxy(k2)) else {
+            continue;
+        };
+        // Two static colliders only when a sensor is involved.
+        let fixed = |t: ColliderTreeType| t == ColliderTreeType::Static;
+        if fixed(k1.tree_type()) && fixed(k2.tree_type()) && !p1.is_sensor() && !p2.is_sensor() {
+            continue;
+        }
+        if !p1.layers.interacts_with(p2.layers) || p1.body == p2.body {
+            continue;
+        }
+        if let (Some(b1), Some(b2)) = (p1.body, p2.body)
+            && world
+                .joints
+                .joints_between(b1, b2)
+                .any(|edge| edge.collision_disabled)
+        {
+            continue;
+        }
+        let flags = p1.flags.union(p2.flags);
+        if flags.contains(ColliderTreeProxyFlags::CUSTOM_FILTER)
+            && !hooks.filter_pairs(c1.entity, c2.entity, commands)
+        {
+            continue;
+        }
+        let mut edge = ContactEdge::new(c1.entity, c2.entity);
+        edge.body1 = p1.body;
+        edge.body2 = p2.body;
+        edge.flags.set(
+            ContactEdgeFlags::CONTACT_EVENTS,
+            flags.contains(ColliderTreeProxyFlags::CONTACT_EVENTS),
+        );
+        graph.add_edge_with(edge, |pair| {
+            pair.body1 = p1.body;
+            pair.body2 = p2.body;
+            pair.flags.set(
+                ContactPairFlags::MODIFY_CONTACTS,
+                flags.contains(ColliderTreeProxyFlags::MODIFY_CONTACTS),
+            );
+            pair.flags.set(
+                ContactPairFlags::GENERATE_CONSTRAINTS,
+                !flags.contains(ColliderTreeProxyFlags::BODY_DISABLED)
+                    && !flags.contains(ColliderTreeProxyFlags::SENSOR),
+            );
+        });
+        added += 1;
+    }
+    added
+}

@@ -1,0 +1,264 @@
+//! # kinetic-avian
+//!
+//! A kinetic broad phase for avian3d 0.8: [`KineticBroadPhasePlugin`] replaces avian's BVH
+//! broad phase with the engine-agnostic core of `kinetic-broad` (which `kinetic-rapier`
+//! shares). Swap it in with one line:
+//!
+//! ```no_run
+//! use avian3d::prelude::*;
+//! use bevy::prelude::*;
+//! use kinetic_avian::KineticBroadPhasePlugin;
+//!
+//! App::new()
+//!     .add_plugins((MinimalPlugins, TransformPlugin))
+//!     .add_plugins(
+//!         PhysicsPlugins::default()
+//!             .build()
+//!             .disable::<BvhBroadPhasePlugin>()
+//!             .add(KineticBroadPhasePlugin::new()),
+//!     )
+//!     .run();
+//! ```
+//!
+//! ## What it does
+//!
+//! Each collider is a proxy in a kinetic structure: a ball about its body's centre of mass
+//! when the body is dynamic or kinematic (it holds the collider at every orientation, grown
+//! by avian's contact tolerance, the collision margin and a slack), its own box when the body
+//! is static or there is none. Every moving body has a flight plan fitted to avian's
+//! substepped integrator; a body that stays within its slack keeps it, sleeping bodies rest
+//! and cost nothing per step. Once a step, before avian's narrow phase, the structure is
+//! advanced over the coming step through its own events in time order: the pairs whose
+//! proxies can meet within the step are *live*.
+//!
+//! avian's narrow phase drops a pair once the two colliders' `EnlargedAabb`s stop
+//! overlapping, so the plugin adds to the [`ContactGraph`](avian3d::prelude::ContactGraph)
+//! every live pair whose enlarged boxes overlap and that the graph does not hold, filtered as
+//! avian's own broad phase filters: collision layers, colliders of one body, static pairs,
+//! joints with collisions disabled, and the `filter_pairs` hook of `H`
+//! ([`CollisionHooks`](avian3d::prelude::CollisionHooks)).
+#![warn(missing_docs)]
+#![forbid(unsafe_code)]
+
+mod graph;
+mod view;
+
+use avian3d::collision::CollisionDiagnostics;
+use avian3d::prelude::*;
+use bevy::ecs::system::{StaticSystemParam, SystemParamItem};
+use bevy::prelude::*;
+use core::marker::PhantomData;
+use kinetic_broad::{BroadPhaseCore, Key, PairEvent};
+use std::collections::HashSet;
+
+pub use kinetic_broad::{BroadPhaseStats, Choice, StepStats};
+
+/// The avian plugin: add it with avian's `BvhBroadPhasePlugin` disabled (the crate docs show
+/// how). `H`: the collision hooks whose `filter_pairs` applies, as with avian's own broad
+/// phase.
+pub struct KineticBroadPhasePlugin<H: CollisionHooks = ()> {
+    choice: Option<Choice>,
+    audit: bool,
+    hooks: PhantomData<H>,
+}
+
+impl<H: CollisionHooks> Default for KineticBroadPhasePlugin<H> {
+    fn default() -> Self {
+        KineticBroadPhasePlugin {
+            choice: None,
+            audit: false,
+            hooks: PhantomData,
+        }
+    }
+}
+
+impl KineticBroadPhasePlugin {
+    /// The plugin with no collision hooks: `KineticBroadPhasePlugin::<H>::default()` takes
+    /// those of `H`.
+    pub fn new() -> Self {
+        KineticBroadPhasePlugin::default()
+    }
+}
+
+impl<H: CollisionHooks> KineticBroadPhasePlugin<H> {
+    /// The same plugin with the structure chosen by the caller (by default it is picked from
+    /// the first colliders' sizes).
+    pub fn with_structure(mut self, choice: Choice) -> Self {
+        self.choice = Some(choice);
+        self
+    }
+
+    /// The same plugin, auditing the broad phase after every event of its structure and
+    /// every step (slow; for tests): see [`KineticBroadPhase::audit_error`].
+    pub fn with_audit(mut self) -> Self {
+        self.audit = true;
+        self
+    }
+}
+
+impl<H: CollisionHooks + 'static> Plugin for KineticBroadPhasePlugin<H>
+where
+    for<'w, 's> SystemParamItem<'w, 's, H>: CollisionHooks,
+{
+    fn build(&self, app: &mut App) {
+        let mut core = BroadPhaseCore::new();
+        if let Some(choice) = self.choice {
+            core = core.with_structure(choice);
+        }
+        if self.audit {
+            core = core.with_audit();
+        }
+        app.insert_resource(KineticBroadPhase {
+            core,
+            audit: self.audit,
+            ..KineticBroadPhase::default()
+        });
+        app.add_systems(
+            PhysicsSchedule,
+            collect_pairs::<H>.in_set(BroadPhaseSystems::CollectCollisions),
+        );
+    }
+}
+
+/// The broad phase's state, a resource: ask it for figures, or whether a pair is live.
+#[derive(Resource, Default)]
+pub struct KineticBroadPhase {
+    core: BroadPhaseCore,
+    /// The pairs the core has added and not deleted: those whose proxies can meet within the
+    /// step.
+    live: HashSet<(Key, Key)>,
+    /// Whether the first step has been seen.
+    started: bool,
+    audit: bool,
+    audit_error: Option<String>,
+    /// Pairs added to the contact graph, over the run and in the last step.
+    added: u64,
+    last_added: u64,
+    /// Time spent in the last step.
+    last_time: std::time::Duration,
+}
+
+impl KineticBroadPhase {
+    /// Figures over the whole run.
+    pub fn stats(&self) -> BroadPhaseStats {
+        self.core.stats()
+    }
+
+    /// Figures over the last step's position update.
+    pub fn last_step(&self) -> StepStats {
+        self.core.last_step()
+    }
+
+    /// The structure in use (its registry name), or `"none"` before the first collider.
+    pub fn structure_name(&self) -> &'static str {
+        self.core.structure_name()
+    }
+
+    /// The pairs whose proxies can meet within the step.
+    pub fn live_pairs(&self) -> usize {
+        self.live.len()
+    }
+
+    /// Whether the proxies of colliders `a` and `b` can meet within the step.
+    pub fn is_live(&self, a: Entity, b: Entity) -> bool {
+        let (a, b) = (view::key(a), view::key(b));
+        self.live.contains(&(a.min(b), a.max(b)))
+    }
+
+    /// Pairs added to avian's contact graph, over the whole run.
+    pub fn added(&self) -> u64 {
+        self.added
+    }
+
+    /// Pairs added to the contact graph in the last step, and the time the step took.
+    pub fn last_added(&self) -> (u64, std::time::Duration) {
+        (self.last_added, self.last_time)
+    }
+
+    /// The first failure of the audit, if any ([`KineticBroadPhasePlugin::with_audit`]).
+    pub fn audit_error(&self) -> Option<&str> {
+        self.core.audit_error().or(self.audit_error.as_deref())
+    }
+
+    /// The engine-agnostic core it runs on.
+    pub fn core(&self) -> &BroadPhaseCore {
+        &self.core
+    }
+
+    /// Takes the core's pair events into the live set.
+    fn apply(&mut self, events: &[PairEvent]) {
+        for e in events {
+            match *e {
+                PairEvent::Add(a, b) => {
+                    self.live.insert((a, b));
+                }
+                PairEvent::Delete(a, b) => {
+                    self.live.remove(&(a, b));
+                }
+            }
+        }
+    }
+}
+
+/// The plugin's system, in avian's `BroadPhaseSystems::CollectCollisions`.
+#[allow(clippy::too_many_arguments)]
+fn collect_pairs<H: CollisionHooks>(
+    mut state: ResMut<KineticBroadPhase>,
+    world: view::AvianWorld,
+    mut changes: view::Changes,
+    hooks: StaticSystemParam<H>,
+    mut commands: Commands,
+    mut contact_graph: ResMut<ContactGraph>,
+    mut diagnostics: ResMut<CollisionDiagnostics>,
+) where
+    for<'w, 's> SystemParamItem<'w, 's, H>: CollisionHooks,
+{
+    let start = std::time::Instant::now();
+    let state = &mut *state;
+    let step = world.step();
+    let (modified, removed, moved) = changes.collect(&world);
+    let mut events = Vec::new();
+    if step.dt > 0.0 {
+        let removed = if state.started {
+            // The positions moved on by a step since the last call: the bodies that moved,
+            // after the colliders removed (whose indices new ones may take).
+            state
+                .core
+                .update(step, &world, &moved, &removed, &mut events);
+            state.apply(&events);
+            events.clear();
+            if state.audit && state.audit_error.is_none() {
+                let all = world.collider_keys();
+                if let Err(e) = state.core.validate(&world, all) {
+                    state.audit_error = Some(format!("after the position update: {e}"));
+                }
+            }
+            &[][..]
+        } else {
+            &removed[..]
+        };
+        // The start of the step: the user's changes (on the first call, every collider).
+        state.started = true;
+        state
+            .core
+            .update(step, &world, &modified, removed, &mut events);
+        state.apply(&events);
+    }
+    if state.audit && state.audit_error.is_none() {
+        let all = world.collider_keys();
+        if let Err(e) = state.core.validate(&world, all) {
+            state.audit_error = Some(format!("at the start of the step: {e}"));
+        }
+    }
+    let added = graph::add_overlapping(
+        &state.live,
+        &world,
+        &hooks.into_inner(),
+        &mut commands,
+        &mut contact_graph,
+    );
+    state.added += added;
+    state.last_added = added;
+    state.last_time = start.elapsed();
+    diagnostics.broad_phase += state.last_time;
+}

@@ -1,0 +1,216 @@
+//! avian's colliders and bodies as the core sees them: entities as [`Key`]s, the ECS queries
+//! as an [`Engine`], and the changes since the last step.
+
+use avian3d::collider_tree::{ColliderTreeProxyKey, ColliderTrees};
+use avian3d::collision::collider::EnlargedAabb;
+use avian3d::dynamics::joints::joint_graph::JointGraph;
+use avian3d::prelude::*;
+use bevy::ecs::entity::EntityGeneration;
+use bevy::ecs::system::SystemParam;
+use bevy::prelude::*;
+use kinetic_broad::{BodyState, Engine, Hold, Key, Seen, Slack, Step};
+use kinetic_core::{Real, Vec3};
+
+/// An entity as a key: its index and generation.
+pub(crate) fn key(e: Entity) -> Key {
+    Key::new(e.index_u32(), e.generation().to_bits())
+}
+
+/// The entity of a key.
+pub(crate) fn entity(k: Key) -> Option<Entity> {
+    let index = Entity::from_raw_u32(k.index)?.index();
+    Some(Entity::from_index_and_generation(
+        index,
+        EntityGeneration::from_bits(k.generation),
+    ))
+}
+
+/// Any of avian's 3-vectors (f32, or f64 positions) in the core's f64.
+macro_rules! dvec {
+    ($v:expr) => {{
+        let a = $v.to_array();
+        Vec3::new(a[0] as Real, a[1] as Real, a[2] as Real)
+    }};
+}
+
+type ColliderItem = (
+    &'static Collider,
+    &'static Position,
+    &'static Rotation,
+    &'static EnlargedAabb,
+    Option<&'static ColliderOf>,
+    Option<&'static CollisionMargin>,
+    Option<&'static ColliderTreeProxyKey>,
+    Has<ColliderDisabled>,
+);
+
+type BodyItem = (
+    &'static RigidBody,
+    &'static Position,
+    &'static Rotation,
+    &'static ComputedCenterOfMass,
+    &'static LinearVelocity,
+    Has<Sleeping>,
+);
+
+/// avian's world as the broad phase reads it.
+#[derive(SystemParam)]
+pub(crate) struct AvianWorld<'w, 's> {
+    colliders: Query<'w, 's, ColliderItem>,
+    bodies: Query<'w, 's, BodyItem>,
+    all: Query<'w, 's, Entity, With<Collider>>,
+    pub(crate) trees: Res<'w, ColliderTrees>,
+    pub(crate) joints: Res<'w, JointGraph>,
+    time: Res<'w, Time>,
+    substeps: Res<'w, SubstepCount>,
+    length_unit: Res<'w, PhysicsLengthUnit>,
+    config: Res<'w, NarrowPhaseConfig>,
+}
+
+/// What the graph needs of a collider: its entity, enlarged box and tree proxy.
+pub(crate) struct ColliderView<'a> {
+    pub(crate) entity: Entity,
+    pub(crate) enlarged: &'a EnlargedAabb,
+    pub(crate) proxy: Option<ColliderTreeProxyKey>,
+}
+
+impl AvianWorld<'_, '_> {
+    /// The step: avian's physics time step and its substeps.
+    pub(crate) fn step(&self) -> Step {
+        Step {
+            dt: self.time.delta_secs_f64() as Real,
+            substeps: self.substeps.0.max(1) as Real,
+        }
+    }
+
+    /// Every collider's key.
+    pub(crate) fn collider_keys(&self) -> Vec<Key> {
+        self.all.iter().map(key).collect()
+    }
+
+    /// Collider `k`, if it is there and enabled.
+    pub(crate) fn collider_view(&self, k: Key) -> Option<ColliderView<'_>> {
+        let e = entity(k)?;
+        let (_, _, _, enlarged, _, _, proxy, disabled) = self.colliders.get(e).ok()?;
+        (!disabled).then_some(ColliderView {
+            entity: e,
+            enlarged,
+            proxy: proxy.copied(),
+        })
+    }
+
+    /// Whether entity `e` is a static body (or no body).
+    pub(crate) fn is_static_body(&self, e: Option<Entity>) -> bool {
+        e.and_then(|b| self.bodies.get(b).ok())
+            .is_none_or(|(rb, ..)| rb.is_static())
+    }
+
+    /// How far avian grows a collider's box: the contact tolerance and its collision margin.
+    fn margin(&self, collision_margin: Option<&CollisionMargin>) -> Real {
+        (self.length_unit.0 * self.config.contact_tolerance) as Real
+            + collision_margin.map_or(0.0, |m| m.0 as Real)
+    }
+}
+
+impl Engine for AvianWorld<'_, '_> {
+    fn collider(&self, c: Key, slack: Slack) -> Seen {
+        let Some(e) = entity(c) else {
+            return Seen::Missing;
+        };
+        let Ok((collider, pos, rot, _, of, margin, _, disabled)) = self.colliders.get(e) else {
+            return Seen::Missing;
+        };
+        if disabled {
+            return Seen::Disabled;
+        }
+        let margin = self.margin(margin);
+        let moving = of
+            .and_then(|of| self.bodies.get(of.body).ok().map(|b| (of.body, b)))
+            .filter(|(_, (rb, ..))| !rb.is_static());
+        match moving {
+            None => {
+                let aabb = collider.aabb(pos.0, *rot, 0.0);
+                Seen::Held(Hold::fixed(dvec!(aabb.min), dvec!(aabb.max), margin))
+            }
+            Some((body, (_, bpos, brot, com, ..))) => {
+                let centre = dvec!(bpos.0) + dvec!(brot.0 * com.0);
+                let sphere = collider.shape_scaled().compute_local_bounding_sphere();
+                let offset = dvec!(rot.0 * sphere.center());
+                let reach = (dvec!(pos.0) + offset - centre).length() + sphere.radius() as Real;
+                let slack = Slack {
+                    min: slack.min * self.length_unit.0 as Real,
+                    ..slack
+                };
+                Seen::Held(Hold::moving(key(body), reach, margin, slack))
+            }
+        }
+    }
+
+    fn body(&self, b: Key) -> Option<BodyState> {
+        let (_, pos, rot, com, v, sleeping) = self.bodies.get(entity(b)?).ok()?;
+        Some(BodyState {
+            centre: dvec!(pos.0) + dvec!(rot.0 * com.0),
+            velocity: dvec!(v.0),
+            sleeping,
+        })
+    }
+}
+
+/// The changes since the last step, read through Bevy's change detection.
+#[derive(SystemParam)]
+pub(crate) struct Changes<'w, 's> {
+    /// Colliders added or changed (shape, body), or disabled.
+    changed: Query<
+        'w,
+        's,
+        Entity,
+        (
+            With<Collider>,
+            Or<(
+                Added<Collider>,
+                Changed<Collider>,
+                Changed<ColliderOf>,
+                Added<ColliderDisabled>,
+            )>,
+        ),
+    >,
+    /// Colliders that moved: those on static bodies (or none) were moved by the user.
+    placed:
+        Query<'w, 's, (Entity, Option<&'static ColliderOf>), (With<Collider>, Changed<Position>)>,
+    /// Bodies whose type changed.
+    retyped: Query<'w, 's, &'static RigidBodyColliders, Changed<RigidBody>>,
+    /// Bodies that move and are awake.
+    awake: Query<'w, 's, (&'static RigidBody, &'static RigidBodyColliders), Without<Sleeping>>,
+    removed: RemovedComponents<'w, 's, Collider>,
+    enabled: RemovedComponents<'w, 's, ColliderDisabled>,
+}
+
+impl Changes<'_, '_> {
+    /// The colliders changed by the user (or new), those removed, and those on bodies that
+    /// move and are awake.
+    pub(crate) fn collect(&mut self, world: &AvianWorld) -> (Vec<Key>, Vec<Key>, Vec<Key>) {
+        let mut modified: Vec<Key> = self.changed.iter().map(key).collect();
+        modified.extend(
+            self.placed
+                .iter()
+                .filter(|(_, of)| world.is_static_body(of.map(|of| of.body)))
+                .map(|(e, _)| key(e)),
+        );
+        for colliders in &self.retyped {
+            modified.extend(colliders.iter().map(key));
+        }
+        modified.extend(self.enabled.read().map(key));
+        modified.sort_unstable();
+        modified.dedup();
+        let mut removed: Vec<Key> = self.removed.read().map(key).collect();
+        removed.sort_unstable();
+        removed.dedup();
+        let mut moved = Vec::new();
+        for (rb, colliders) in &self.awake {
+            if !rb.is_static() {
+                moved.extend(colliders.iter().map(key));
+            }
+        }
+        (modified, removed, moved)
+    }
+}
