@@ -1,1 +1,164 @@
-fn main() {}
+//! avian3d 0.8's step with its own broad phase (BVH) and with the kinetic plugin, side by side
+//! in one run, on the rapier bench's scenes (`kinetic_scenes::engines`): whole step,
+//! broad-phase time (avian's `CollisionDiagnostics`) and pairs in the contact graph.
+//!
+//! `cargo bench -p kinetic-avian --bench avian -- [N...] [--steps S] [--scenes rain,debris]
+//! [--repeat K] [--csv PATH]` (default N = 1000 10000, S = 120, both scenes, K = 3). The two
+//! sides run K times, interleaved; each figure is the median of the K runs. Prints a markdown
+//! table and writes it as CSV (default `docs/results/avian.csv`).
+
+use avian3d::collision::CollisionDiagnostics;
+use avian3d::prelude::*;
+use bevy::prelude::*;
+use bevy::time::TimeUpdateStrategy;
+use kinetic_avian::KineticBroadPhasePlugin;
+use kinetic_scenes::engines::{self, EngineScene};
+use std::time::{Duration, Instant};
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Side {
+    Avian,
+    Kinetic,
+}
+
+/// One run's figures, per step.
+#[derive(Clone, Copy, Default)]
+struct Row {
+    step_ms: f64,
+    bp_ms: f64,
+    pairs: f64,
+    touching: f64,
+}
+
+fn run(scene: &EngineScene, side: Side, steps: usize) -> Row {
+    let mut app = App::new();
+    app.add_plugins((MinimalPlugins, TransformPlugin));
+    let physics = PhysicsPlugins::default().build();
+    match side {
+        Side::Avian => app.add_plugins(physics),
+        Side::Kinetic => app.add_plugins(
+            physics
+                .disable::<BvhBroadPhasePlugin>()
+                .add(KineticBroadPhasePlugin::new()),
+        ),
+    };
+    app.insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(
+        1.0 / 64.0,
+    )));
+    app.finish();
+    kinetic_scenes::avian::spawn(scene, app.world_mut());
+    // The first update sets the clocks: no physics step yet.
+    app.update();
+    let mut row = Row::default();
+    let mut bp = Duration::ZERO;
+    let start = Instant::now();
+    for _ in 0..steps {
+        let before = app.world().resource::<CollisionDiagnostics>().broad_phase;
+        app.update();
+        let after = app.world().resource::<CollisionDiagnostics>().broad_phase;
+        // The diagnostics are reset at each step when avian's diagnostics plugin runs.
+        bp += if after >= before {
+            after - before
+        } else {
+            after
+        };
+        let graph = app.world().resource::<ContactGraph>();
+        row.pairs += graph.iter_active().count() as f64;
+        row.touching += graph.iter_active_touching().count() as f64;
+    }
+    let n = steps as f64;
+    row.step_ms = start.elapsed().as_secs_f64() * 1e3 / n;
+    row.bp_ms = bp.as_secs_f64() * 1e3 / n;
+    row.pairs /= n;
+    row.touching /= n;
+    row
+}
+
+fn median(mut xs: Vec<f64>) -> f64 {
+    xs.sort_by(f64::total_cmp);
+    xs[xs.len() / 2]
+}
+
+fn main() {
+    let mut ns = Vec::new();
+    let (mut steps, mut repeat) = (120, 3);
+    let mut scenes = vec!["rain".to_string(), "debris".to_string()];
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
+    let mut csv = format!("{root}/docs/results/avian.csv");
+    let mut args = std::env::args().skip(1);
+    while let Some(a) = args.next() {
+        let mut value = |name: &str| {
+            args.next()
+                .unwrap_or_else(|| panic!("{name} needs a value"))
+        };
+        match a.as_str() {
+            "--steps" => steps = value("--steps").parse().expect("--steps: a number"),
+            "--repeat" => repeat = value("--repeat").parse().expect("--repeat: a number"),
+            "--scenes" => scenes = value("--scenes").split(',').map(str::to_string).collect(),
+            "--csv" => csv = value("--csv"),
+            "--bench" => {}
+            n => ns.push(n.parse::<usize>().expect("N: a number of bodies")),
+        }
+    }
+    if ns.is_empty() {
+        ns = vec![1000, 10000];
+    }
+    println!("avian3d 0.8, {steps} steps at 64 Hz, median of {repeat} interleaved runs\n");
+    println!(
+        "| scene | bodies | side | step (ms) | broad phase (ms) | pairs | touching | broad phase kinetic/avian | step kinetic/avian |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|");
+    let mut lines =
+        vec!["scene,bodies,steps,side,step_ms,broad_phase_ms,pairs,touching".to_string()];
+    for scene_name in &scenes {
+        for &n in &ns {
+            let scene = match scene_name.as_str() {
+                "rain" => engines::rain(n, (n / 400).max(3), 7),
+                "debris" => engines::debris(n, 1),
+                other => panic!("unknown scene {other}: rain or debris"),
+            };
+            let mut runs: [Vec<Row>; 2] = [Vec::new(), Vec::new()];
+            for _ in 0..repeat {
+                runs[0].push(run(&scene, Side::Avian, steps));
+                runs[1].push(run(&scene, Side::Kinetic, steps));
+            }
+            let med = |side: usize, f: fn(&Row) -> f64| median(runs[side].iter().map(f).collect());
+            let rows: Vec<Row> = (0..2)
+                .map(|s| Row {
+                    step_ms: med(s, |r| r.step_ms),
+                    bp_ms: med(s, |r| r.bp_ms),
+                    pairs: med(s, |r| r.pairs),
+                    touching: med(s, |r| r.touching),
+                })
+                .collect();
+            for (s, side) in [Side::Avian, Side::Kinetic].into_iter().enumerate() {
+                let r = rows[s];
+                let ratio = if side == Side::Kinetic {
+                    format!(
+                        "{:.2} | {:.2}",
+                        r.bp_ms / rows[0].bp_ms,
+                        r.step_ms / rows[0].step_ms
+                    )
+                } else {
+                    " | ".to_string()
+                };
+                println!(
+                    "| {scene_name} | {n} | {side:?} | {:.2} | {:.3} | {:.0} | {:.0} | {ratio} |",
+                    r.step_ms, r.bp_ms, r.pairs, r.touching
+                );
+                lines.push(format!(
+                    "{scene_name},{n},{steps},{},{:.3},{:.4},{:.0},{:.0}",
+                    format!("{side:?}").to_lowercase(),
+                    r.step_ms,
+                    r.bp_ms,
+                    r.pairs,
+                    r.touching
+                ));
+            }
+        }
+    }
+    match std::fs::write(&csv, lines.join("\n") + "\n") {
+        Ok(()) => println!("\nwrote {csv}"),
+        Err(e) => eprintln!("could not write {csv}: {e}"),
+    }
+}

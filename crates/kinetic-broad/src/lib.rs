@@ -20,6 +20,7 @@
 #![forbid(unsafe_code)]
 
 mod engine;
+mod gate;
 mod hold;
 mod motions;
 mod pairs;

@@ -2,7 +2,9 @@
 //!
 //! A kinetic broad phase for rapier3d 0.27: a thin adapter over the engine-agnostic core of
 //! `kinetic-broad` (which `kinetic-avian` shares), built on the free-flight structures of
-//! `kinetic-flight`. Swap it in with one line:
+//! `kinetic-flight`. Features: `f32` (the default) for rapier3d, `f64` for rapier3d-f64
+//! (its broad phase is [`f64::KineticBroadPhase`]); both may be on at once. Swap it in with
+//! one line:
 //!
 //! ```
 //! use kinetic_rapier::KineticBroadPhase;
@@ -53,9 +55,9 @@
 //!
 //! The structure is picked from the first colliders' sizes unless the caller picks one
 //! ([`KineticBroadPhase::with_structure`]). Moving colliders of alike sizes (a rain, a pile)
-//! get [`kinetic_flight::LooseGrid`]: each proxy holds a fixed region its box stays in for a
+//! get `kinetic_flight::LooseGrid`: each proxy holds a fixed region its box stays in for a
 //! while on its plan, so a re-plan that stays inside costs one exit time, not a pass over its
-//! neighbours. A spread of sizes (a debris field) gets [`kinetic_flight::Grid`], which sorts
+//! neighbours. A spread of sizes (a debris field) gets `kinetic_flight::Grid`, which sorts
 //! the proxies into levels by size and finds the sweep's pairs (boxes that meet) among
 //! proxies that share a cell. The sweep (Section 3.1) and guards (Section 3.2) hand over the
 //! same or fewer pairs but pay for every swap of three global orders: on the benchmark's rain
@@ -63,9 +65,17 @@
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
-mod broad_phase;
+#[cfg(feature = "f32")]
+mod f32;
+#[cfg(feature = "f64")]
+pub mod f64;
 
-pub use broad_phase::KineticBroadPhase;
+#[cfg(feature = "f32")]
+pub use f32::KineticBroadPhase;
 pub use kinetic_broad::{BroadPhaseStats, StepStats};
-/// The rapier this broad phase plugs into (0.27), as its types appear here.
+/// The rapier this broad phase plugs into (0.27, f32), as its types appear here.
+#[cfg(feature = "f32")]
 pub use rapier3d;
+/// The f64 rapier this broad phase plugs into (0.27), as its types appear in [`f64`].
+#[cfg(feature = "f64")]
+pub use rapier3d_f64;

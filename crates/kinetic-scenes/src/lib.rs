@@ -9,7 +9,10 @@
 #![forbid(unsafe_code)]
 
 pub mod audit;
+#[cfg(feature = "avian")]
+pub mod avian;
 pub mod choice;
+pub mod engines;
 pub mod families;
 pub mod generators;
 pub mod hard_spheres;

@@ -2,7 +2,8 @@
 //! over the coming step and the pairs handed over.
 
 use super::{BroadPhaseCore, StepStats};
-use crate::pairs::{Gate, PairOut, proxies_gate};
+use crate::gate::{Gate, proxies_gate};
+use crate::pairs::PairOut;
 use crate::{Engine, Hold, Key, PairEvent, Seen, Step};
 use kinetic_core::{FlightPlan, Real, Vec3};
 

@@ -1,14 +1,18 @@
-//! rapier3d 0.27's [`BroadPhase`] over the engine-agnostic core: rapier's sets seen as an
-//! [`Engine`], its handles as [`Key`]s, the core's pairs as rapier's pair events.
+// rapier 0.27's `BroadPhase` over the engine-agnostic core: rapier's sets seen as an `Engine`,
+// its handles as `Key`s, the core's pairs as rapier's pair events. Included by `f32.rs` and
+// `f64.rs`, each with its own `rapier` (rapier3d or rapier3d-f64).
 
 use kinetic_broad::{
     BodyState, BroadPhaseCore, BroadPhaseStats, Choice, Engine, Hold, Key, PairEvent, Seen, Slack,
     Step, StepStats,
 };
 use kinetic_core::{Real, Vec3};
-use rapier3d::prelude::*;
+use rapier::prelude::*;
 
-/// The kinetic broad phase for rapier3d 0.27: implements its [`BroadPhase`].
+/// rapier's scalar.
+type RReal = rapier::math::Real;
+
+/// The kinetic broad phase for rapier 0.27: implements its [`BroadPhase`].
 #[derive(Debug, Default)]
 pub struct KineticBroadPhase {
     core: BroadPhaseCore,
@@ -40,12 +44,12 @@ fn body_key(h: RigidBodyHandle) -> Key {
 }
 
 /// Converts a rapier vector.
-fn dvec(v: &Vector<f32>) -> Vec3 {
+fn dvec(v: &Vector<RReal>) -> Vec3 {
     Vec3::new(v.x as Real, v.y as Real, v.z as Real)
 }
 
 /// Converts a rapier point.
-fn dpoint(p: &Point<f32>) -> Vec3 {
+fn dpoint(p: &Point<RReal>) -> Vec3 {
     Vec3::new(p.x as Real, p.y as Real, p.z as Real)
 }
 
@@ -171,7 +175,7 @@ impl KineticBroadPhase {
     /// The same broad phase with another slack: a moving body may stray `fraction` of its
     /// size (at least `min` times rapier's length unit) from its plan before it is
     /// re-planned. More slack, fewer re-plans and more pairs. Default 0.05 and 0.001.
-    pub fn with_slack(mut self, fraction: f32, min: f32) -> KineticBroadPhase {
+    pub fn with_slack(mut self, fraction: RReal, min: RReal) -> KineticBroadPhase {
         self.core = self.core.with_slack(fraction as Real, min as Real);
         self
     }
