@@ -20,7 +20,6 @@
 #![forbid(unsafe_code)]
 
 mod engine;
-mod gate;
 mod hold;
 mod motions;
 mod pairs;

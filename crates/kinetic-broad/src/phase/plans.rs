@@ -168,7 +168,7 @@ impl BroadPhaseCore {
                 let body = self.bodies[i as usize].as_mut().expect("held");
                 body.plan = plan;
                 self.plans[i as usize] = self.plans[i as usize].wrapping_add(1);
-                self.book.replanned(i);
+                self.book.touch();
                 let s = self.structure.as_mut().expect("a structure");
                 s.replan(i, &self.bodies, self.clock.kds, &mut self.changes);
             } else {

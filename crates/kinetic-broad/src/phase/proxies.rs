@@ -86,7 +86,7 @@ impl BroadPhaseCore {
         }
         self.bodies[i as usize] = None;
         self.plans[i as usize] = self.plans[i as usize].wrapping_add(1);
-        self.book.replanned(i);
+        self.book.touch();
     }
 
     /// Puts collider `i` with `hold` into the structure at its clock, grown by `grow` (a
@@ -102,7 +102,7 @@ impl BroadPhaseCore {
         let plan = self.plan_of(&hold);
         self.bodies[i as usize] = Some(Body { shape, plan });
         self.plans[i as usize] = self.plans[i as usize].wrapping_add(1);
-        self.book.replanned(i);
+        self.book.touch();
         let s = self.structure.as_mut().expect("a structure");
         s.insert(i, &self.bodies, self.clock.kds, &mut self.changes);
         self.proxies[i as usize].as_mut().expect("held").grown_until =
@@ -203,7 +203,7 @@ impl BroadPhaseCore {
                     plan: self.plan_of(hold),
                 });
                 self.plans[i] = self.plans[i].wrapping_add(1);
-                self.book.replanned(i as u32);
+                self.book.touch();
             }
             let s = self.structure.as_mut().expect("a structure");
             s.insert_many(&ids, &self.bodies, self.clock.kds, &mut self.changes);

@@ -2,8 +2,7 @@
 //! over the coming step and the pairs handed over.
 
 use super::{BroadPhaseCore, StepStats};
-use crate::gate::{Gate, proxies_gate};
-use crate::pairs::PairOut;
+use crate::pairs::{Gate, PairOut, proxies_gate};
 use crate::{Engine, Hold, Key, PairEvent, Seen, Step};
 use kinetic_core::{FlightPlan, Real, Vec3};
 

@@ -1,7 +1,7 @@
 //! The audit: the invariants recomputed from scratch.
 
 use super::{BroadPhaseCore, Clock, Proxy};
-use crate::gate::proxies_meet;
+use crate::pairs::proxies_meet;
 use crate::{Engine, Key, Seen};
 use kinetic_core::Body;
 
