@@ -1,9 +1,10 @@
 //! avian3d 0.8's step with its own broad phase (BVH) and with the kinetic plugin, side by side
-//! in one run, on the rapier bench's scenes (`kinetic_scenes::engines`): whole step,
-//! broad-phase time (avian's `CollisionDiagnostics`) and pairs in the contact graph.
+//! in one run, on the rapier bench's standard scenes (`kinetic_scenes::engines::standard`:
+//! pile, rain, gas, debris, asleep, kinematic): whole step, broad-phase time (avian's
+//! `CollisionDiagnostics`) and pairs in the contact graph.
 //!
-//! `cargo bench -p kinetic-avian --bench avian -- [N...] [--steps S] [--scenes rain,debris]
-//! [--repeat K] [--csv PATH]` (default N = 1000 10000, S = 120, both scenes, K = 3). The two
+//! `cargo bench -p kinetic-avian --bench avian -- [N...] [--steps S] [--scenes pile,rain]
+//! [--repeat K] [--csv PATH]` (default N = 1000 10000, S = 120, every scene, K = 3). The two
 //! sides run K times, interleaved; each figure is the median of the K runs. Prints a markdown
 //! table and writes it as CSV (default `docs/results/avian.csv`).
 
@@ -82,7 +83,7 @@ fn median(mut xs: Vec<f64>) -> f64 {
 fn main() {
     let mut ns = Vec::new();
     let (mut steps, mut repeat) = (120, 3);
-    let mut scenes = vec!["rain".to_string(), "debris".to_string()];
+    let mut scenes: Vec<String> = engines::STANDARD.iter().map(|s| s.to_string()).collect();
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
     let mut csv = format!("{root}/docs/results/avian.csv");
     let mut args = std::env::args().skip(1);
@@ -112,11 +113,9 @@ fn main() {
         vec!["scene,bodies,steps,side,step_ms,broad_phase_ms,pairs,touching".to_string()];
     for scene_name in &scenes {
         for &n in &ns {
-            let scene = match scene_name.as_str() {
-                "rain" => engines::rain(n, (n / 400).max(3), 7),
-                "debris" => engines::debris(n, 1),
-                other => panic!("unknown scene {other}: rain or debris"),
-            };
+            let scene = engines::standard(scene_name, n).unwrap_or_else(|| {
+                panic!("unknown scene {scene_name}: one of {:?}", engines::STANDARD)
+            });
             let mut runs: [Vec<Row>; 2] = [Vec::new(), Vec::new()];
             for _ in 0..repeat {
                 runs[0].push(run(&scene, Side::Avian, steps));

@@ -6,22 +6,19 @@ use avian3d::collision::contact_types::ContactEdgeFlags;
 use avian3d::prelude::*;
 use bevy::prelude::*;
 use kinetic_broad::Key;
-use std::collections::HashSet;
 
-/// Adds to `graph` every live pair whose colliders' enlarged boxes overlap and that it does not
-/// hold, unless avian's broad phase would filter it out; returns how many were added.
+/// Adds to `graph` every pair of `pairs` (live ones, in key order) whose colliders' enlarged
+/// boxes overlap and that it does not hold, unless avian's broad phase would filter it out;
+/// returns how many were added.
 pub(crate) fn add_overlapping(
-    live: &HashSet<(Key, Key)>,
+    pairs: &[(Key, Key)],
     world: &AvianWorld,
     hooks: &impl CollisionHooks,
     commands: &mut Commands,
     graph: &mut ContactGraph,
 ) -> u64 {
-    // In key order, so that the graph is built the same way every run.
-    let mut pairs: Vec<(Key, Key)> = live.iter().copied().collect();
-    pairs.sort_unstable();
     let mut added = 0;
-    for (a, b) in pairs {
+    for &(a, b) in pairs {
         let (Some(c1), Some(c2)) = (world.collider_view(a), world.collider_view(b)) else {
             continue;
         };

@@ -49,7 +49,7 @@ use bevy::ecs::system::{StaticSystemParam, SystemParamItem};
 use bevy::prelude::*;
 use core::marker::PhantomData;
 use kinetic_broad::{BroadPhaseCore, Key, PairEvent};
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 
 pub use kinetic_broad::{BroadPhaseStats, Choice, StepStats};
 
@@ -125,8 +125,11 @@ where
 pub struct KineticBroadPhase {
     core: BroadPhaseCore,
     /// The pairs the core has added and not deleted: those whose proxies can meet within the
-    /// step.
+    /// step; and per collider, the other ends of its live pairs.
     live: HashSet<(Key, Key)>,
+    partners: HashMap<Key, Vec<Key>>,
+    /// Pairs that became live in this step.
+    fresh: Vec<(Key, Key)>,
     /// Whether the first step has been seen.
     started: bool,
     audit: bool,
@@ -190,13 +193,44 @@ impl KineticBroadPhase {
         for e in events {
             match *e {
                 PairEvent::Add(a, b) => {
-                    self.live.insert((a, b));
+                    if self.live.insert((a, b)) {
+                        self.partners.entry(a).or_default().push(b);
+                        self.partners.entry(b).or_default().push(a);
+                        self.fresh.push((a, b));
+                    }
                 }
                 PairEvent::Delete(a, b) => {
-                    self.live.remove(&(a, b));
+                    if self.live.remove(&(a, b)) {
+                        for (i, j) in [(a, b), (b, a)] {
+                            if let Some(list) = self.partners.get_mut(&i) {
+                                list.retain(|&x| x != j);
+                                if list.is_empty() {
+                                    self.partners.remove(&i);
+                                }
+                            }
+                        }
+                    }
                 }
             }
         }
+    }
+
+    /// The live pairs that may have to go into the contact graph this step: those new this
+    /// step and those of the colliders that moved or changed (`active`). A live pair of two
+    /// colliders that neither moved nor changed is as it was last step: in the graph if
+    /// their boxes overlapped, and they still do not if they did not.
+    fn to_check(&mut self, active: &[Key]) -> Vec<(Key, Key)> {
+        let mut pairs = std::mem::take(&mut self.fresh);
+        for &a in active {
+            if let Some(list) = self.partners.get(&a) {
+                pairs.extend(list.iter().map(|&b| (a.min(b), a.max(b))));
+            }
+        }
+        // In key order, so that the graph is built the same way every run.
+        pairs.sort_unstable();
+        pairs.dedup();
+        pairs.retain(|p| self.live.contains(p));
+        pairs
     }
 }
 
@@ -250,8 +284,11 @@ fn collect_pairs<H: CollisionHooks>(
             state.audit_error = Some(format!("at the start of the step: {e}"));
         }
     }
+    let mut active = modified;
+    active.extend_from_slice(&moved);
+    let check = state.to_check(&active);
     let added = graph::add_overlapping(
-        &state.live,
+        &check,
         &world,
         &hooks.into_inner(),
         &mut commands,

@@ -159,7 +159,7 @@ impl Engine for AvianWorld<'_, '_> {
 /// The changes since the last step, read through Bevy's change detection.
 #[derive(SystemParam)]
 pub(crate) struct Changes<'w, 's> {
-    /// Colliders added or changed (shape, body), or disabled.
+    /// Colliders added or changed (shape, body, layers), made sensors, or disabled.
     changed: Query<
         'w,
         's,
@@ -170,6 +170,8 @@ pub(crate) struct Changes<'w, 's> {
                 Added<Collider>,
                 Changed<Collider>,
                 Changed<ColliderOf>,
+                Changed<CollisionLayers>,
+                Added<Sensor>,
                 Added<ColliderDisabled>,
             )>,
         ),

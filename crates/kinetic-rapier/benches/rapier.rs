@@ -1,18 +1,21 @@
 //! rapier 0.27's step with its default broad phase and with the kinetic one, side by side in
-//! one run: whole step, broad-phase time (rapier's own counters) and pairs handed to the
-//! narrow phase.
+//! one run, on the standard scenes (`kinetic_scenes::engines::standard`: pile, rain, gas,
+//! debris, asleep, kinematic): whole step, broad-phase time (rapier's own counters) and pairs
+//! handed to the narrow phase.
 //!
-//! `cargo bench -p kinetic-rapier --bench rapier -- [N...] [--steps S] [--scenes rain,debris]
-//! [--repeat K] [--split P]` (default N = 1000 10000 50000, S = 120, both scenes, K = 1). Each
-//! side runs K times, the two interleaved, and shows its run of median broad-phase time (timings
-//! on a shared machine drift by tens of percent between runs). Prints a markdown table; "after
+//! `cargo bench -p kinetic-rapier --bench rapier -- [N...] [--steps S] [--scenes pile,rain]
+//! [--repeat K] [--split P] [--csv PATH]` (default N = 1000 10000 50000, S = 120, every scene,
+//! K = 1). Each side runs K times, the two interleaved, and shows its run of median
+//! broad-phase time (timings on a shared machine drift by tens of percent between runs).
+//! Prints a markdown table and writes it as CSV (default `docs/results/rapier.csv`); "after
 //! step 1" is the broad phase's mean over the steps after the first, which builds each side's
 //! structure from scratch. `--split P` adds a table of each side's broad-phase time in all over
 //! the steps before step P and from step P on (the rain: while it falls, and once it piles up).
 
 use kinetic_flight::Choice;
 use kinetic_rapier::KineticBroadPhase;
-use kinetic_scenes::rapier::{RapierScene, debris, rain};
+use kinetic_scenes::engines::STANDARD;
+use kinetic_scenes::rapier::{RapierScene, standard};
 use rapier3d::prelude::*;
 use std::time::Instant;
 
@@ -110,6 +113,8 @@ fn main() {
     let mut only: Option<Vec<String>> = None;
     let mut repeat = 1;
     let mut split: Option<usize> = None;
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
+    let mut csv = format!("{root}/docs/results/rapier.csv");
     let mut it = args.iter();
     while let Some(a) = it.next() {
         if a == "--steps" {
@@ -126,8 +131,10 @@ fn main() {
                     .and_then(|s| s.parse().ok())
                     .expect("--split P (a step)"),
             );
+        } else if a == "--csv" {
+            csv = it.next().expect("--csv PATH").clone();
         } else if a == "--scenes" {
-            let list = it.next().expect("--scenes rain,debris");
+            let list = it.next().expect("--scenes pile,rain");
             only = Some(list.split(',').map(str::to_string).collect());
         } else if let Ok(n) = a.parse::<usize>() {
             sizes.push(n);
@@ -144,16 +151,15 @@ fn main() {
     );
     println!("|---|---|---|---|---|---|---|---|---|---|");
     let mut parts = Vec::new();
-    for &n in &sizes {
-        type Make = fn(usize) -> RapierScene;
-        let scenes: [(&str, Make); 2] = [
-            ("rain", |n| rain(n, n / 500, 1)),
-            ("debris", |n| debris(n, 2)),
-        ];
-        for (name, make) in scenes {
-            if only.as_ref().is_some_and(|o| !o.iter().any(|s| s == name)) {
-                continue;
-            }
+    let mut lines = vec![
+        "scene,bodies,steps,side,step_ms,broad_phase_ms,after_first_ms,narrow_phase_ms,pairs,touching,structure,events_per_step,replans_per_step".to_string(),
+    ];
+    for name in STANDARD {
+        if only.as_ref().is_some_and(|o| !o.iter().any(|s| s == name)) {
+            continue;
+        }
+        let make = |n: usize| -> RapierScene { standard(name, n).expect("a standard scene") };
+        for &n in &sizes {
             let (mut ds, mut ks) = (Vec::new(), Vec::new());
             for _ in 0..repeat {
                 let at = split.unwrap_or(steps);
@@ -185,6 +191,21 @@ fn main() {
                     "| {name} | {n} | {label} | {:.2} | {:.3} | {:.3} | {:.2} | {:.0} | {:.0} | {extra} |",
                     r.step_ms, r.bp_ms, r.bp_after_ms, r.np_ms, r.pairs, r.touching
                 );
+                let (side, structure, events, replans) = if label == "kinetic" {
+                    let per = |x: u64| x as f64 / s.steps.max(1) as f64;
+                    (
+                        "kinetic",
+                        kbp.structure_name(),
+                        per(s.events),
+                        per(s.replans),
+                    )
+                } else {
+                    ("default", "bvh", 0.0, 0.0)
+                };
+                lines.push(format!(
+                    "{name},{n},{steps},{side},{:.3},{:.4},{:.4},{:.3},{:.0},{:.0},{structure},{events:.1},{replans:.2}",
+                    r.step_ms, r.bp_ms, r.bp_after_ms, r.np_ms, r.pairs, r.touching
+                ));
             }
             println!(
                 "| {name} | {n} | kinetic / default | {:.2}x | {:.2}x | {:.2}x | {:.2}x | {:.2}x | | |",
@@ -196,6 +217,10 @@ fn main() {
             );
             parts.push((name, n, d.bp_parts, k.bp_parts));
         }
+    }
+    match std::fs::write(&csv, lines.join("\n") + "\n") {
+        Ok(()) => println!("\nwrote {csv}"),
+        Err(e) => eprintln!("could not write {csv}: {e}"),
     }
     if let Some(p) = split {
         println!(

@@ -67,6 +67,33 @@ impl Piece {
     }
 }
 
+/// Three draws in `-h..h`: a position or a velocity.
+fn draw3(rng: &mut ChaCha8Rng, h: f32) -> [f32; 3] {
+    [
+        rng.random_range(-h..h),
+        rng.random_range(-h..h),
+        rng.random_range(-h..h),
+    ]
+}
+
+/// A ball of radius `r`, or (every `every`-th piece, from the last of each run) a box of
+/// half-extents `r` times `box_shape`.
+fn ball_or_box(k: usize, every: usize, r: f32, box_shape: [f32; 3]) -> PieceShape {
+    if k % every == every - 1 {
+        PieceShape::Cuboid(box_shape.map(|f| f * r))
+    } else {
+        PieceShape::Ball(r)
+    }
+}
+
+/// The scene of `pieces` under gravity `gy` along the y axis.
+fn scene(pieces: Vec<Piece>, gy: f32) -> EngineScene {
+    EngineScene {
+        pieces,
+        gravity: [0.0, gy, 0.0],
+    }
+}
+
 /// A ground slab of half-width `half`, its top at 0.
 fn ground(half: f32) -> Piece {
     Piece::fixed(PieceShape::Cuboid([half, 0.5, half]), [0.0, -0.5, 0.0])
@@ -112,17 +139,9 @@ pub fn rain(n: usize, rocks: usize, seed: u64) -> EngineScene {
             (cell / side) as f32 * 0.5 - side as f32 * 0.25 + rng.random_range(-0.05..0.05),
         ];
         let r = rng.random_range(0.1..0.2);
-        let shape = if k % 3 == 2 {
-            PieceShape::Cuboid([r, r, r])
-        } else {
-            PieceShape::Ball(r)
-        };
-        pieces.push(Piece::dynamic(shape, p));
+        pieces.push(Piece::dynamic(ball_or_box(k, 3, r, [1.0; 3]), p));
     }
-    EngineScene {
-        pieces,
-        gravity: [0.0, -9.81, 0.0],
-    }
+    scene(pieces, -9.81)
 }
 
 /// A debris field in free fall (no gravity, no ground): `n` spinning balls and boxes whose
@@ -145,37 +164,22 @@ pub fn debris(n: usize, seed: u64) -> EngineScene {
         .collect();
     let volume: f32 = radii.iter().map(|r| 4.2 * r * r * r).sum();
     let half = (volume / 0.02).cbrt() / 2.0;
-    let draw = |rng: &mut ChaCha8Rng, h: f32| {
-        [
-            rng.random_range(-h..h),
-            rng.random_range(-h..h),
-            rng.random_range(-h..h),
-        ]
-    };
     let pieces = radii
         .iter()
         .enumerate()
         .map(|(k, &r)| {
-            let position = draw(&mut rng, half);
-            let velocity = draw(&mut rng, 1.0);
-            let spin = draw(&mut rng, 1.0);
-            let shape = if k % 2 == 1 {
-                PieceShape::Cuboid([r, 0.7 * r, 0.8 * r])
-            } else {
-                PieceShape::Ball(r)
-            };
+            let position = draw3(&mut rng, half);
+            let velocity = draw3(&mut rng, 1.0);
+            let spin = draw3(&mut rng, 1.0);
             Piece {
                 velocity,
                 spin,
                 can_sleep: false,
-                ..Piece::dynamic(shape, position)
+                ..Piece::dynamic(ball_or_box(k, 2, r, [1.0, 0.7, 0.8]), position)
             }
         })
         .collect();
-    EngineScene {
-        pieces,
-        gravity: [0.0; 3],
-    }
+    scene(pieces, 0.0)
 }
 
 /// A pile: `n` balls and boxes (radii 0.2 to 0.25) dropped in a column of 10 by 10 cells 0.5
@@ -191,17 +195,9 @@ pub fn pile(n: usize, seed: u64) -> EngineScene {
             (cell / 10) as f32 * 0.5 - 2.25 + rng.random_range(-0.02..0.02),
         ];
         let r = rng.random_range(0.2..0.25);
-        let shape = if k % 2 == 1 {
-            PieceShape::Cuboid([r * 0.9; 3])
-        } else {
-            PieceShape::Ball(r)
-        };
-        pieces.push(Piece::dynamic(shape, p));
+        pieces.push(Piece::dynamic(ball_or_box(k, 2, r, [0.9; 3]), p));
     }
-    EngineScene {
-        pieces,
-        gravity: [0.0, -9.81, 0.0],
-    }
+    scene(pieces, -9.81)
 }
 
 /// A ball gas: `n` elastic, frictionless balls (radius 0.1 to 0.2) at up to 2 units per
@@ -222,14 +218,8 @@ pub fn gas(n: usize, seed: u64) -> EngineScene {
     ];
     let inner = half - 0.25;
     for _ in 0..n {
-        let mut draw = |h: f32| {
-            [
-                rng.random_range(-h..h),
-                rng.random_range(-h..h),
-                rng.random_range(-h..h),
-            ]
-        };
-        let (position, velocity) = (draw(inner), draw(2.0));
+        let position = draw3(&mut rng, inner);
+        let velocity = draw3(&mut rng, 2.0);
         let r = rng.random_range(0.1..0.2);
         pieces.push(Piece {
             velocity,
@@ -239,10 +229,7 @@ pub fn gas(n: usize, seed: u64) -> EngineScene {
             ..Piece::dynamic(PieceShape::Ball(r), position)
         });
     }
-    EngineScene {
-        pieces,
-        gravity: [0.0; 3],
-    }
+    scene(pieces, 0.0)
 }
 
 /// A mostly sleeping world: `n` unit boxes created asleep on a ground in a grid 1.5 apart,
@@ -270,10 +257,7 @@ pub fn asleep(n: usize, seed: u64) -> EngineScene {
         let y = rng.random_range(3.0..8.0);
         pieces.push(Piece::dynamic(PieceShape::Ball(0.3), [x, y, z]));
     }
-    EngineScene {
-        pieces,
-        gravity: [0.0, -9.81, 0.0],
-    }
+    scene(pieces, -9.81)
 }
 
 /// Many kinematic bodies: `n` balls and boxes (radii 0.2 to 0.5) moved by their velocities
@@ -284,32 +268,19 @@ pub fn kinematic(n: usize, seed: u64) -> EngineScene {
     let half = (n as f32 * 4.2 * 0.35f32.powi(3) / 0.03).cbrt() / 2.0;
     let pieces = (0..n)
         .map(|k| {
-            let mut draw = |h: f32| {
-                [
-                    rng.random_range(-h..h),
-                    rng.random_range(-h..h),
-                    rng.random_range(-h..h),
-                ]
-            };
-            let (position, velocity, spin) = (draw(half), draw(3.0), draw(1.0));
+            let position = draw3(&mut rng, half);
+            let velocity = draw3(&mut rng, 3.0);
+            let spin = draw3(&mut rng, 1.0);
             let r = rng.random_range(0.2..0.5);
-            let shape = if k % 2 == 1 {
-                PieceShape::Cuboid([r, 0.8 * r, 0.6 * r])
-            } else {
-                PieceShape::Ball(r)
-            };
             Piece {
                 velocity,
                 spin,
                 kinematic: true,
-                ..Piece::dynamic(shape, position)
+                ..Piece::dynamic(ball_or_box(k, 2, r, [1.0, 0.8, 0.6]), position)
             }
         })
         .collect();
-    EngineScene {
-        pieces,
-        gravity: [0.0; 3],
-    }
+    scene(pieces, 0.0)
 }
 
 /// The scene of `kind` (`pile`, `rain`, `gas`, `debris`, `asleep`, `kinematic`) with `n`
