@@ -219,7 +219,7 @@ impl KineticBroadPhase {
     /// step and those of the colliders that moved or changed (`active`). A live pair of two
     /// colliders that neither moved nor changed is as it was last step: in the graph if
     /// their boxes overlapped, and they still do not if they did not.
-    fn to_check(&mut self, active: &[Key]) -> Vec<(Key, Key)> {
+    fn pairs_to_check(&mut self, active: &[Key]) -> Vec<(Key, Key)> {
         let mut pairs = std::mem::take(&mut self.fresh);
         for &a in active {
             if let Some(list) = self.partners.get(&a) {
@@ -286,7 +286,7 @@ fn collect_pairs<H: CollisionHooks>(
     }
     let mut active = modified;
     active.extend_from_slice(&moved);
-    let check = state.to_check(&active);
+    let check = state.pairs_to_check(&active);
     let added = graph::add_overlapping(
         &check,
         &world,

@@ -53,6 +53,22 @@ type BodyItem = (
     Has<Sleeping>,
 );
 
+/// Colliders added or changed (shape, body, layers), made sensors, or disabled.
+type ChangedFilter = (
+    With<Collider>,
+    Or<(
+        Added<Collider>,
+        Changed<Collider>,
+        Changed<ColliderOf>,
+        Changed<CollisionLayers>,
+        Added<Sensor>,
+        Added<ColliderDisabled>,
+    )>,
+);
+
+/// Colliders that moved, and their bodies.
+type Placed = (Entity, Option<&'static ColliderOf>);
+
 /// avian's world as the broad phase reads it.
 #[derive(SystemParam)]
 pub(crate) struct AvianWorld<'w, 's> {
@@ -160,25 +176,9 @@ impl Engine for AvianWorld<'_, '_> {
 #[derive(SystemParam)]
 pub(crate) struct Changes<'w, 's> {
     /// Colliders added or changed (shape, body, layers), made sensors, or disabled.
-    changed: Query<
-        'w,
-        's,
-        Entity,
-        (
-            With<Collider>,
-            Or<(
-                Added<Collider>,
-                Changed<Collider>,
-                Changed<ColliderOf>,
-                Changed<CollisionLayers>,
-                Added<Sensor>,
-                Added<ColliderDisabled>,
-            )>,
-        ),
-    >,
+    changed: Query<'w, 's, Entity, ChangedFilter>,
     /// Colliders that moved: those on static bodies (or none) were moved by the user.
-    placed:
-        Query<'w, 's, (Entity, Option<&'static ColliderOf>), (With<Collider>, Changed<Position>)>,
+    placed: Query<'w, 's, Placed, (With<Collider>, Changed<Position>)>,
     /// Bodies whose type changed.
     retyped: Query<'w, 's, &'static RigidBodyColliders, Changed<RigidBody>>,
     /// Bodies that move and are awake.
