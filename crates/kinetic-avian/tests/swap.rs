@@ -7,6 +7,7 @@ mod common;
 use avian3d::prelude::*;
 use bevy::prelude::*;
 use common::*;
+use kinetic_avian::KineticBroadPhasePlugin;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -276,5 +277,81 @@ fn collision_layers_keep_pairs_apart_as_with_avians_broad_phase() {
         );
         assert!(!touching(&app).contains(&tags(&app, a, b)), "{broad:?}");
         assert_eq!(touching(&app).len(), 2, "{broad:?}: {:?}", touching(&app));
+    }
+}
+
+/// Colliders marked `Ghost` pass through each other (a `filter_pairs` hook).
+#[derive(Component)]
+struct Ghost;
+
+#[derive(bevy::ecs::system::SystemParam)]
+struct GhostHooks<'w, 's> {
+    ghosts: Query<'w, 's, (), With<Ghost>>,
+}
+
+impl CollisionHooks for GhostHooks<'_, '_> {
+    fn filter_pairs(&self, a: Entity, b: Entity, _: &mut Commands) -> bool {
+        !(self.ghosts.contains(a) && self.ghosts.contains(b))
+    }
+}
+
+/// A headless app with the ghost hooks, and either broad phase.
+fn app_with_hooks(broad: Broad) -> App {
+    let mut app = App::new();
+    app.add_plugins((MinimalPlugins, TransformPlugin));
+    let physics = PhysicsPlugins::default()
+        .with_collision_hooks::<GhostHooks>()
+        .build();
+    match broad {
+        Broad::Default => app.add_plugins(physics),
+        Broad::Kinetic => app.add_plugins(
+            physics
+                .disable::<BvhBroadPhasePlugin<GhostHooks>>()
+                .add(KineticBroadPhasePlugin::<GhostHooks>::default().with_audit()),
+        ),
+    };
+    app.insert_resource(bevy::time::TimeUpdateStrategy::ManualDuration(
+        std::time::Duration::from_secs_f64(1.0 / HZ),
+    ));
+    app.finish();
+    app
+}
+
+#[test]
+fn joints_and_the_filter_hook_keep_pairs_apart_as_with_avians_broad_phase() {
+    for broad in [Broad::Default, Broad::Kinetic] {
+        let mut app = app_with_hooks(broad);
+        ground(&mut app);
+        // Two balls overlapping, joined with collisions disabled; two ghosts overlapping; a
+        // ghost and a plain ball overlapping.
+        let a = spawn(&mut app, ball(Vec3::new(-6.0, 0.5, 0.0), 0.5));
+        let b = spawn(&mut app, ball(Vec3::new(-5.4, 0.5, 0.0), 0.5));
+        app.world_mut()
+            .spawn((DistanceJoint::new(a, b), JointCollisionDisabled));
+        let hooks = ActiveCollisionHooks::FILTER_PAIRS;
+        let g1 = spawn(
+            &mut app,
+            (ball(Vec3::new(0.0, 0.5, 0.0), 0.5), Ghost, hooks),
+        );
+        let g2 = spawn(
+            &mut app,
+            (ball(Vec3::new(0.6, 0.5, 0.0), 0.5), Ghost, hooks),
+        );
+        let plain = spawn(&mut app, (ball(Vec3::new(6.0, 0.5, 0.0), 0.5), hooks));
+        let g3 = spawn(
+            &mut app,
+            (ball(Vec3::new(6.6, 0.5, 0.0), 0.5), Ghost, hooks),
+        );
+        let mut seen = std::collections::BTreeSet::new();
+        for _ in 0..30 {
+            step(&mut app);
+            seen.extend(touching(&app));
+        }
+        assert!(!seen.contains(&tags(&app, a, b)), "{broad:?}: jointed pair");
+        assert!(!seen.contains(&tags(&app, g1, g2)), "{broad:?}: ghosts");
+        assert!(
+            seen.contains(&tags(&app, plain, g3)),
+            "{broad:?}: a ghost and a ball"
+        );
     }
 }
