@@ -188,6 +188,17 @@ impl KineticBroadPhase {
         &self.core
     }
 
+    /// In audit mode, validates the core against avian's world and keeps the first failure,
+    /// saying `when` it came.
+    fn audit_now(&mut self, world: &view::AvianWorld, when: &str) {
+        if self.audit && self.audit_error.is_none() {
+            let all = world.collider_keys();
+            if let Err(e) = self.core.validate(world, all) {
+                self.audit_error = Some(format!("{when}: {e}"));
+            }
+        }
+    }
+
     /// Takes the core's pair events into the live set.
     fn apply(&mut self, events: &[PairEvent]) {
         for e in events {
@@ -261,12 +272,7 @@ fn collect_pairs<H: CollisionHooks>(
                 .update(step, &world, &moved, &removed, &mut events);
             state.apply(&events);
             events.clear();
-            if state.audit && state.audit_error.is_none() {
-                let all = world.collider_keys();
-                if let Err(e) = state.core.validate(&world, all) {
-                    state.audit_error = Some(format!("after the position update: {e}"));
-                }
-            }
+            state.audit_now(&world, "after the position update");
             &[][..]
         } else {
             &removed[..]
@@ -278,12 +284,7 @@ fn collect_pairs<H: CollisionHooks>(
             .update(step, &world, &modified, removed, &mut events);
         state.apply(&events);
     }
-    if state.audit && state.audit_error.is_none() {
-        let all = world.collider_keys();
-        if let Err(e) = state.core.validate(&world, all) {
-            state.audit_error = Some(format!("at the start of the step: {e}"));
-        }
-    }
+    state.audit_now(&world, "at the start of the step");
     let mut active = modified;
     active.extend_from_slice(&moved);
     let check = state.pairs_to_check(&active);
