@@ -162,6 +162,17 @@ impl Engine for AvianWorld<'_, '_> {
         }
     }
 
+    fn bounds(&self, c: Key) -> Option<(Vec3, Vec3)> {
+        let (collider, pos, rot, _, _, margin, _, disabled) =
+            self.colliders.get(entity(c)?).ok()?;
+        if disabled {
+            return None;
+        }
+        let aabb = collider.aabb(pos.0, *rot, 0.0);
+        let m = Vec3::splat(self.margin(margin));
+        Some((dvec!(aabb.min) - m, dvec!(aabb.max) + m))
+    }
+
     fn body(&self, b: Key) -> Option<BodyState> {
         let (_, pos, rot, com, v, sleeping) = self.bodies.get(entity(b)?).ok()?;
         Some(BodyState {

@@ -49,6 +49,13 @@ pub trait Engine {
     fn collider(&self, c: Key, slack: Slack) -> Seen;
     /// Body `b`'s state, or `None` if the engine has no such body.
     fn body(&self, b: Key) -> Option<BodyState>;
+    /// Collider `c`'s axis-aligned box now, `(min, max)`, grown by the same margins as its
+    /// [`Hold`]. An engine that gives it lets bodies in contact be held by fat boxes (see
+    /// the crate docs); the default, `None`, keeps every moving body on a flight plan.
+    fn bounds(&self, c: Key) -> Option<(Vec3, Vec3)> {
+        let _ = c;
+        None
+    }
 }
 
 /// The engine's step.

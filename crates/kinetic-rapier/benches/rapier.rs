@@ -180,7 +180,7 @@ fn main() {
                         s.events as f64 / s.steps as f64,
                         s.replans as f64 / s.steps as f64,
                         if std::env::var_os("KINETIC_COUNTERS").is_some() {
-                            format!(" {:?}", kbp.structure_counters())
+                            format!(" {:?} {:?}", kbp.structure_counters(), s)
                         } else {
                             String::new()
                         }

@@ -59,6 +59,12 @@ fn centre_of_mass(rb: &RigidBody) -> Vec3 {
     dpoint(&(rb.position() * rb.local_center_of_mass()))
 }
 
+/// The contact margins `co`'s boxes and balls are grown by under `params`: half the
+/// prediction distance and the contact skin.
+fn margin_of(co: &Collider, params: &IntegrationParameters) -> Real {
+    params.prediction_distance() as Real / 2.0 + co.contact_skin() as Real
+}
+
 /// How `co` is held under `params`: a ball about its body's centre of mass when the body
 /// moves, its own box otherwise, both grown by half the prediction distance and the contact
 /// skin. The least slack is in rapier's length unit.
@@ -68,7 +74,7 @@ fn hold_of(
     params: &IntegrationParameters,
     slack: Slack,
 ) -> Hold {
-    let margin = params.prediction_distance() as Real / 2.0 + co.contact_skin() as Real;
+    let margin = margin_of(co, params);
     let moving = co
         .parent()
         .and_then(|h| bodies.get(h).map(|rb| (h, rb)))
@@ -99,6 +105,16 @@ impl Engine for Rapier<'_> {
             Some(co) if !co.is_enabled() => Seen::Disabled,
             Some(co) => Seen::Held(hold_of(co, self.bodies, self.params, slack)),
         }
+    }
+
+    fn bounds(&self, c: Key) -> Option<(Vec3, Vec3)> {
+        let co = self
+            .colliders
+            .get(ColliderHandle::from_raw_parts(c.index, c.generation))?;
+        let aabb = co.compute_aabb();
+        let margin = margin_of(co, self.params);
+        let m = Vec3::splat(margin);
+        Some((dpoint(&aabb.mins) - m, dpoint(&aabb.maxs) + m))
     }
 
     fn body(&self, b: Key) -> Option<BodyState> {

@@ -49,6 +49,7 @@ impl BroadPhaseCore {
             last_a: None,
             steady_a: Vec3::ZERO,
             listed: false,
+            fat: false,
         });
         m.slack = m.slack.min(slack);
         m
@@ -161,7 +162,8 @@ impl BroadPhaseCore {
         let grow = if level { 0.0 } else { self.lag_growth() };
         let plan = self.motions[h].plan;
         for i in self.motions[h].colliders.clone() {
-            let Some(proxy) = self.proxies[i as usize] else {
+            // A collider held by a fat box keeps it whatever the plan.
+            let Some(proxy) = self.proxies[i as usize].filter(|p| p.fat.is_none()) else {
                 continue;
             };
             if level && proxy.grown_until.is_none() && !resized {

@@ -1,15 +1,18 @@
 //! Colliders as proxies: put into the structure, taken out, and the structure picked for
 //! the first ones.
 
-use super::REGION_STEPS;
 use super::{BroadPhaseCore, Proxy};
+use super::{REGION_MARGIN, REGION_STEPS};
 use crate::{Engine, Hold, Key, Seen, Step};
-use kinetic_core::{Body, FlightPlan, Real, Shape};
+use kinetic_core::{Body, FlightPlan, Real, Shape, Vec3};
 use kinetic_flight::{Choice, ConvexShape, Grid, Guards, LooseGrid, Sweep};
 
 impl BroadPhaseCore {
-    /// The structure's shape for a hold.
-    fn shape(&self, hold: &Hold, choice: Choice) -> Shape {
+    /// The structure's shape for collider `i` held by `hold`: its fat box if it has one.
+    fn shape(&self, i: u32, hold: &Hold, choice: Choice) -> Shape {
+        if let Some((min, max)) = self.fat_box(i) {
+            return box_shape(min, max, choice);
+        }
         match *hold {
             Hold::Moving {
                 body,
@@ -25,22 +28,21 @@ impl BroadPhaseCore {
                     radius: radius + extra,
                 }
             }
-            Hold::Fixed { min, max } => {
-                let half = (max - min) / 2.0;
-                match (choice, ConvexShape::cuboid(half)) {
-                    (Choice::Sweep | Choice::Grid | Choice::Loose, Ok(cuboid)) => {
-                        cuboid.into_shape()
-                    }
-                    _ => Shape::Ball {
-                        radius: half.length().max(1e-9),
-                    },
-                }
-            }
+            Hold::Fixed { min, max } => box_shape(min, max, choice),
         }
     }
 
-    /// The structure's plan for a collider held by `hold`.
-    fn plan_of(&self, hold: &Hold) -> FlightPlan {
+    /// Collider `i`'s fat box, if it has one.
+    fn fat_box(&self, i: u32) -> Option<(Vec3, Vec3)> {
+        self.proxies.get(i as usize).copied().flatten()?.fat
+    }
+
+    /// The structure's plan for collider `i` held by `hold`: at rest in its fat box's centre
+    /// if it has one.
+    fn plan_of(&self, i: u32, hold: &Hold) -> FlightPlan {
+        if let Some((min, max)) = self.fat_box(i) {
+            return FlightPlan::at_rest((min + max) / 2.0);
+        }
         match *hold {
             Hold::Fixed { min, max } => FlightPlan::at_rest((min + max) / 2.0),
             Hold::Moving { body, .. } => self.motions[body].plan,
@@ -93,13 +95,13 @@ impl BroadPhaseCore {
     /// change that happened `kds - pos` before the structure's clock).
     pub(super) fn put_in(&mut self, i: u32, hold: Hold, grow: Real) {
         let choice = self.structure_choice();
-        let mut shape = self.shape(&hold, choice);
+        let mut shape = self.shape(i, &hold, choice);
         if grow > 0.0 {
             shape = Shape::Ball {
                 radius: shape.outer_radius() + grow,
             };
         }
-        let plan = self.plan_of(&hold);
+        let plan = self.plan_of(i, &hold);
         self.bodies[i as usize] = Some(Body { shape, plan });
         self.plans[i as usize] = self.plans[i as usize].wrapping_add(1);
         self.book.touch();
@@ -158,6 +160,12 @@ impl BroadPhaseCore {
                     m.colliders.push(i);
                     m.seen = update;
                     self.refit(body, engine, step, true);
+                    // A body that starts at rest is held by fat boxes where the engine gives
+                    // them.
+                    let m = self.motions.get_mut(body).expect("a motion");
+                    if m.at_rest() && engine.bounds(h).is_some() {
+                        m.fat = true;
+                    }
                 } else {
                     let m = self.motions.get_mut(body).expect("a motion");
                     m.slack = m.slack.min(slack);
@@ -168,6 +176,7 @@ impl BroadPhaseCore {
                 key: h,
                 hold,
                 grown_until: None,
+                fat: self.joining_box(engine, h, &hold),
             };
             self.movers[i as usize] = Some(proxy.mover());
             self.proxies[i as usize] = Some(proxy);
@@ -185,6 +194,7 @@ impl BroadPhaseCore {
                     let dt = step.dt;
                     Box::new(
                         LooseGrid::new()
+                            .with_margin(REGION_MARGIN)
                             .with_horizon(REGION_STEPS * dt)
                             .with_least_flight(dt),
                     )
@@ -199,8 +209,8 @@ impl BroadPhaseCore {
             for (h, hold) in &holds {
                 let i = h.index as usize;
                 self.bodies[i] = Some(Body {
-                    shape: self.shape(hold, choice),
-                    plan: self.plan_of(hold),
+                    shape: self.shape(h.index, hold, choice),
+                    plan: self.plan_of(h.index, hold),
                 });
                 self.plans[i] = self.plans[i].wrapping_add(1);
                 self.book.touch();
@@ -218,6 +228,18 @@ impl BroadPhaseCore {
             self.put_in(i, hold, g);
             self.book.apply(&mut self.changes, self.clock.kds);
         }
+    }
+}
+
+/// The structure's shape for the box `min..max` at rest: a cuboid where the structure takes
+/// one, else the ball about it.
+fn box_shape(min: Vec3, max: Vec3, choice: Choice) -> Shape {
+    let half = (max - min) / 2.0;
+    match (choice, ConvexShape::cuboid(half)) {
+        (Choice::Sweep | Choice::Grid | Choice::Loose, Ok(cuboid)) => cuboid.into_shape(),
+        _ => Shape::Ball {
+            radius: half.length().max(1e-9),
+        },
     }
 }
 

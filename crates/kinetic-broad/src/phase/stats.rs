@@ -25,6 +25,9 @@ pub struct BroadPhaseStats {
     pub slack_growths: u64,
     /// Times a body with grown slack that then kept its plan had it halved.
     pub slack_shrinks: u64,
+    /// Times a body at rest was held by fresh fat boxes (it came to rest, or left its boxes
+    /// and came to rest again).
+    pub boxed: u64,
 }
 
 /// Figures over the last physics step.

@@ -20,6 +20,8 @@ struct Toy {
     removed: Vec<Key>,
     /// The pairs the toy's narrow phase holds.
     pairs: Vec<(Key, Key)>,
+    /// Whether it gives its colliders' boxes ([`Engine::bounds`]).
+    boxes: bool,
 }
 
 const STEP: Step = Step {
@@ -41,6 +43,21 @@ impl Engine for Toy {
 
     fn body(&self, b: Key) -> Option<BodyState> {
         self.bodies.iter().find(|(k, _)| *k == b).map(|(_, s)| *s)
+    }
+
+    fn bounds(&self, c: Key) -> Option<(Vec3, Vec3)> {
+        if !self.boxes {
+            return None;
+        }
+        let margin = Vec3::splat(0.01);
+        match self.colliders.iter().find(|(k, ..)| *k == c)?.1 {
+            Part::Ball { body, radius } => {
+                let centre = self.body(body)?.centre;
+                let r = Vec3::splat(radius) + margin;
+                Some((centre - r, centre + r))
+            }
+            Part::Box { min, max } => Some((min - margin, max + margin)),
+        }
     }
 }
 
@@ -86,8 +103,9 @@ impl Toy {
             s.velocity.y -= 9.81 * STEP.dt;
             s.centre += s.velocity * STEP.dt;
             if s.centre.y < 0.5 {
+                // Stopped by the ground; it slides on it without friction.
                 s.centre.y = 0.5;
-                s.velocity = Vec3::ZERO;
+                s.velocity.y = 0.0;
             }
             moved.extend(
                 self.colliders
@@ -192,5 +210,51 @@ fn resting_bodies_cost_nothing_and_a_disabled_collider_drops_out() {
     toy.step(&mut core);
     assert!(!core.knows(middle));
     assert_eq!(core.held(), 3);
+    assert_eq!(core.audit_error(), None);
+}
+
+#[test]
+fn bodies_at_rest_are_held_by_fat_boxes_until_they_move() {
+    let mut toy = Toy::new(&[0.0, 3.0]);
+    toy.boxes = true;
+    let mut core = BroadPhaseCore::new().with_audit();
+    for _ in 0..120 {
+        toy.step(&mut core);
+    }
+    // Both rest on the ground, each held by a box: no events, no re-plans.
+    let boxed = core.stats().boxed;
+    assert!(boxed >= 2, "{:?}", core.stats());
+    let (left, right) = (Key::new(1, 0), Key::new(2, 0));
+    for i in [left, right] {
+        assert!(core.proxies[i.index as usize].expect("held").fat.is_some());
+    }
+    for _ in 0..30 {
+        toy.step(&mut core);
+        assert_eq!(core.last_step().events, 0);
+        assert_eq!(core.last_step().replans, 0);
+    }
+    assert_eq!(core.stats().boxed, boxed);
+    // A kick sends the left ball sliding at the right one: it leaves its box, is planned
+    // again, and the pair is handed over before the balls touch (margins included).
+    toy.bodies[0].1.velocity = Vec3::new(3.0, 0.0, 0.0);
+    let mut met = false;
+    for _ in 0..60 {
+        toy.step(&mut core);
+        let gap = (toy.bodies[0].1.centre - toy.bodies[1].1.centre).length() - 1.02;
+        if gap <= 0.0 {
+            met = true;
+            assert!(
+                toy.pairs.contains(&(left, right)),
+                "touching without the pair"
+            );
+        }
+    }
+    assert!(met, "the balls never met");
+    assert!(
+        core.proxies[left.index as usize]
+            .expect("held")
+            .fat
+            .is_none()
+    );
     assert_eq!(core.audit_error(), None);
 }

@@ -132,13 +132,20 @@ impl BroadPhaseCore {
                 m.last_v = v;
                 m.seen = update;
             }
-            // Most bodies keep their plans: checked here, with no second look-up.
-            if m.keeps_plan(rb.centre, v, self.clock.pos, step_dt, substeps) {
+            // Most bodies keep their plans or their fat boxes: checked here, with no second
+            // look-up of the plan.
+            let kept = if m.fat {
+                self.keeps_boxes(engine, b, v, step_dt)
+            } else {
+                m.keeps_plan(rb.centre, v, self.clock.pos, step_dt, substeps)
+            };
+            if kept {
+                let m = &self.motions[b];
                 seen_moving += usize::from(m.listed && m.seen == update);
                 continue;
             }
             if let Some(resized) = self.refit(b, engine, step, false) {
-                self.replan(b, resized);
+                self.hold(engine, b, &rb, resized);
             }
             if self
                 .motions
@@ -166,7 +173,7 @@ impl BroadPhaseCore {
                     m.listed = false;
                     m.last_a = None;
                     self.moving.swap_remove(k);
-                    self.replan(b, false);
+                    self.hold(engine, b, &state, false);
                 } else {
                     k += 1;
                 }

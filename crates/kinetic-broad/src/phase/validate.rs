@@ -35,6 +35,10 @@ impl BroadPhaseCore {
             }
         }
         for (h, m) in self.motions.iter() {
+            if m.fat {
+                self.check_boxes(engine, h, m)?;
+                continue;
+            }
             let Some(rb) = engine.body(h) else { continue };
             let off = (rb.centre - m.plan.position_at(self.clock.pos)).length();
             if off > m.slack_now() * (1.0 + 1e-6) {

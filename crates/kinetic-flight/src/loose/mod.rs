@@ -156,6 +156,14 @@ impl LooseGrid {
         }
     }
 
+    /// The same loose grid whose regions are wider than the swept box by `margin` box widths
+    /// on every side (at least 1e-6): fewer, tighter candidates and more re-anchors of
+    /// jittering objects.
+    pub fn with_margin(mut self, margin: Real) -> LooseGrid {
+        self.margin = margin.max(1e-6);
+        self
+    }
+
     /// The same loose grid whose regions cover at most `horizon` time units of flight (a slow
     /// object's region then hugs its box instead of stretching over its whole travel).
     pub fn with_horizon(mut self, horizon: Real) -> LooseGrid {

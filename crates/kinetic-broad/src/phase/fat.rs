@@ -1,0 +1,141 @@
+//! Fat boxes: a body at rest is held by boxes about its colliders, not by balls on its plan.
+//!
+//! A body planned at rest (asleep, or one that would stay within half its slack for a while:
+//! resting on a floor or in a pile) has each of its colliders held by a fat box: the
+//! collider's own box now and where its velocity takes it by the end of the step, grown by
+//! [`FAT_MARGIN`] of its half-width (at least the body's slack). A box at rest is what the
+//! structure holds best: no events, and a box about a box is far tighter than the ball about
+//! it, whose pairs with its neighbours the narrow phase would test every step (unit boxes
+//! resting 1.5 apart: three times the pairs). The boxes stay while each collider's box,
+//! swept over the coming step, stays inside its fat box, as the enlarged boxes of Box2D's
+//! and rapier's trees do; a body that leaves them is planned again ([`BroadPhaseCore::hold`]).
+//! An engine that gives no boxes ([`Engine::bounds`]) keeps every body on its plan.
+
+use super::{BroadPhaseCore, Motion};
+use crate::{BodyState, Engine, Hold, Key};
+use kinetic_core::{Real, Vec3};
+
+/// A fat box is grown by this share of its collider's box half-width on every side.
+const FAT_MARGIN: Real = 0.1;
+
+/// An axis-aligned box, `(min, max)`.
+type Aabb = (Vec3, Vec3);
+
+/// Collider box `lo..hi` swept by displacement `d`.
+fn swept(lo: Vec3, hi: Vec3, d: Vec3) -> (Vec3, Vec3) {
+    (lo + d.min(Vec3::ZERO), hi + d.max(Vec3::ZERO))
+}
+
+impl Motion {
+    /// Whether its plan is at rest.
+    pub(super) fn at_rest(&self) -> bool {
+        self.plan.velocity == Vec3::ZERO && self.plan.acceleration == Vec3::ZERO
+    }
+}
+
+impl BroadPhaseCore {
+    /// The fat box for collider `c` of a body moving at `v` over a step `dt`, with base slack
+    /// `slack`; `None` if the engine gives no box.
+    fn fat_box_for(engine: &impl Engine, c: Key, v: Vec3, dt: Real, slack: Real) -> Option<Aabb> {
+        let (lo, hi) = engine.bounds(c)?;
+        let (lo, hi) = swept(lo, hi, v * dt);
+        let m = (FAT_MARGIN * ((hi - lo) / 2.0).max_element()).max(slack);
+        Some((lo - Vec3::splat(m), hi + Vec3::splat(m)))
+    }
+
+    /// Whether every collider of fat body `b`, moving at `v`, stays inside its fat box over
+    /// the coming step `dt`.
+    pub(super) fn keeps_boxes(&self, engine: &impl Engine, b: Key, v: Vec3, dt: Real) -> bool {
+        self.motions[b].colliders.iter().all(|&i| {
+            let Some(p) = self.proxies[i as usize] else {
+                return true;
+            };
+            let (Some((min, max)), Some((lo, hi))) = (p.fat, engine.bounds(p.key)) else {
+                return false;
+            };
+            let (lo, hi) = swept(lo, hi, v * dt);
+            min.cmple(lo).all() && hi.cmple(max).all()
+        })
+    }
+
+    /// Holds body `b` (in state `rb`) as its plan, just fitted, calls for: by fresh fat boxes
+    /// when the plan is at rest and the engine gives boxes, else by the balls of its holds on
+    /// the plan (`resized`: with a new slack).
+    pub(super) fn hold(&mut self, engine: &impl Engine, b: Key, rb: &BodyState, resized: bool) {
+        let m = &self.motions[b];
+        if m.at_rest() {
+            let (slack, dt) = (m.slack, self.clock.dt);
+            let boxes: Option<Vec<(u32, Hold, Aabb)>> = m
+                .colliders
+                .iter()
+                .filter_map(|&i| self.proxies[i as usize].map(|p| (i, p)))
+                .map(|(i, p)| {
+                    Self::fat_box_for(engine, p.key, rb.velocity, dt, slack).map(|f| (i, p.hold, f))
+                })
+                .collect();
+            if let Some(boxes) = boxes {
+                self.motions.get_mut(b).expect("a motion").fat = true;
+                self.stats.boxed += 1;
+                self.stats.replans += 1;
+                self.step.replans += 1;
+                // A box covers its collider's whole step; only the others' lag grows it.
+                let grow = self.lag_growth();
+                for (i, hold, fat) in boxes {
+                    self.take_out(i);
+                    self.proxies[i as usize].as_mut().expect("held").fat = Some(fat);
+                    self.put_in(i, hold, grow);
+                    self.book.apply(&mut self.changes, self.clock.kds);
+                }
+                return;
+            }
+        }
+        let m = self.motions.get_mut(b).expect("a motion");
+        let unboxed = std::mem::take(&mut m.fat);
+        if unboxed {
+            for &i in &m.colliders {
+                if let Some(p) = self.proxies[i as usize].as_mut() {
+                    p.fat = None;
+                }
+            }
+        }
+        self.replan(b, resized || unboxed);
+    }
+
+    /// The fat box of collider `i`, held by `hold`, when it joins a body held by fat boxes
+    /// (`None` for any other).
+    pub(super) fn joining_box(&self, engine: &impl Engine, i: Key, hold: &Hold) -> Option<Aabb> {
+        let Hold::Moving { body, .. } = *hold else {
+            return None;
+        };
+        let m = self.motions.get(body).filter(|m| m.fat)?;
+        let rb = engine.body(body)?;
+        Self::fat_box_for(engine, i, rb.velocity, self.clock.dt, m.slack)
+    }
+
+    /// Checks that every collider of fat body `b` is inside its fat box now.
+    pub(super) fn check_boxes(
+        &self,
+        engine: &impl Engine,
+        b: Key,
+        m: &Motion,
+    ) -> Result<(), String> {
+        for &i in &m.colliders {
+            let Some(p) = self.proxies[i as usize] else {
+                continue;
+            };
+            let Some((min, max)) = p.fat else {
+                return Err(format!(
+                    "collider {i} of body {b:?}, held by boxes, has none"
+                ));
+            };
+            if let Some((lo, hi)) = engine.bounds(p.key)
+                && !(min.cmple(lo).all() && hi.cmple(max).all())
+            {
+                return Err(format!(
+                    "collider {i} of body {b:?}: box {lo}..{hi} outside its fat box {min}..{max}"
+                ));
+            }
+        }
+        Ok(())
+    }
+}
