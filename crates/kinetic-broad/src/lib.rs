@@ -8,7 +8,8 @@
 //! [`PairEvent`]s into its pair events.
 //!
 //! - [`Hold`]: how a collider is held (a ball about a moving body's centre of mass with a
-//!   slack, or a fixed collider's box).
+//!   slack, or a fixed collider's box). A body at rest is held by a fat box about each of its
+//!   colliders' own boxes instead, where the engine gives them ([`Engine::bounds`]).
 //! - [`BroadPhaseCore`]: the proxies, the bodies' plans (a body that stays within its slack
 //!   keeps its plan; one that keeps re-planning has its slack grown), the structure's events
 //!   over each step in time order, and the pair book that turns candidates into events.

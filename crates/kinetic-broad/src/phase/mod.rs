@@ -4,7 +4,7 @@
 //!
 //! Split by operation: `api.rs` (building and asking), `proxies.rs` (colliders in and out of
 //! the structure), `plans.rs` (bodies' plans and slack), `update.rs` (the engine's call and
-//! the structure's events), `fat.rs` (bodies in contact held by fat boxes), `validate.rs`.
+//! the structure's events), `fat.rs` (bodies at rest held by fat boxes), `validate.rs`.
 
 mod api;
 mod fat;
@@ -59,7 +59,7 @@ struct Proxy {
     /// Grown to cover the time between its change and the structure's clock, until the
     /// positions reach this time.
     grown_until: Option<Real>,
-    /// The fat box `(min, max)` it is held by while its body is in contact (`None`: the ball
+    /// The fat box `(min, max)` it is held by while its body is at rest (`None`: the ball
     /// of its hold, on the body's plan).
     fat: Option<(Vec3, Vec3)>,
 }
