@@ -127,7 +127,8 @@ pub fn choose_structure(scene: &Scene) -> StructureName {
     }
     let elastic = scene.response == Response::Elastic;
     let (n, crossings) = (scene.objects.len(), crossings(scene));
-    if kinetic_flight::brute_force_pays(n, crossings, heavy_pairs(scene), elastic) {
+    let contacts = contacts(scene);
+    if kinetic_flight::brute_force_pays(n, crossings, contacts, heavy_pairs(scene), elastic) {
         return StructureName::BruteForce;
     }
     let resting = kinetic_flight::barely_moving(n, crossings);
@@ -153,6 +154,51 @@ pub fn crossings(scene: &Scene) -> f64 {
             }
         })
         .sum()
+}
+
+/// About how many contacts the objects make over the horizon: each object's travel through
+/// the others as if they stood still, `pi (r_i + r_j)^2` of space swept per unit of travel for
+/// each other object `j` (in a plane world the discs' `2 (r_i + r_j)` of area), over the
+/// space they share: the walls' box, or else the box of the objects' starts grown by the
+/// largest outer radius. For n equal balls filling a share phi of space this is 6 phi
+/// contacts per [`crossings`]; what a box structure pays for in new candidate pairs where
+/// objects crowd.
+pub fn contacts(scene: &Scene) -> f64 {
+    let h = scene.horizon;
+    let radius = |o: &crate::scene::SceneObject| crate::scene::outer_radius(&o.shape);
+    let (lo, hi) = match scene.walls {
+        Some(w) => (w.min, w.max),
+        None => {
+            let r = scene.objects.iter().map(radius).fold(0.0, f64::max);
+            let (lo, hi) = scene.objects.iter().fold(
+                (glam::DVec3::INFINITY, glam::DVec3::NEG_INFINITY),
+                |(lo, hi), o| (lo.min(o.position), hi.max(o.position)),
+            );
+            (lo - glam::DVec3::splat(r), hi + glam::DVec3::splat(r))
+        }
+    };
+    let d = hi - lo;
+    let plane = scene.world == WorldKind::Plane;
+    let space = if plane { d.x * d.y } else { d.x * d.y * d.z };
+    let n = scene.objects.len() as f64;
+    let s1: f64 = scene.objects.iter().map(radius).sum();
+    let s2: f64 = scene.objects.iter().map(|o| radius(o).powi(2)).sum();
+    let swept: f64 = scene
+        .objects
+        .iter()
+        .map(|o| {
+            let travel = o.velocity.length() * h + 0.5 * o.acceleration.length() * h * h;
+            let r = radius(o);
+            let reach = if plane {
+                2.0 * (n * r + s1)
+            } else {
+                std::f64::consts::PI * (n * r * r + 2.0 * r * s1 + s2)
+            };
+            travel * reach
+        })
+        .sum();
+    let c = swept / space;
+    if c.is_finite() && c > 0.0 { c } else { 0.0 }
 }
 
 /// Whether some objects are cuboids or hulls, or accelerate: pairs whose certificates cost

@@ -6,7 +6,7 @@ use kinetic_collide::kds::{
     GRID_SPREAD, LOOSE_SPREAD, RESTING_CROSSINGS, RESTING_GRID_MAX, brute_force_pays,
 };
 use kinetic_collide::run::{StructureName, choose_structure, run_scene};
-use kinetic_collide::structures::{crossings, heavy_pairs};
+use kinetic_collide::structures::{contacts, crossings, heavy_pairs};
 use kinetic_scenes::audit::assert_same_contacts;
 use kinetic_scenes::choice::{KINDS, choice_family};
 
@@ -25,7 +25,7 @@ fn the_default_applies_follows_the_rule_and_matches_the_brute_force() {
         let n = scene.objects.len();
         let want = if StructureName::Cells.applies_to(scene) {
             StructureName::Cells
-        } else if brute_force_pays(n, crossings(scene), heavy, elastic) {
+        } else if brute_force_pays(n, crossings(scene), contacts(scene), heavy, elastic) {
             StructureName::BruteForce
         } else if crossings(scene) <= RESTING_CROSSINGS * n as f64
             && n <= RESTING_GRID_MAX

@@ -41,19 +41,29 @@ pub const HEAVY_PAIR_FACTOR: Real = 2.0;
 /// ... and a box structure's cost per object (its build)...
 pub const OBJECT_COST: Real = 2.8;
 /// ... and per crossing (an object travelling its own diameter: a region left, a box end
-/// passed, a cell crossed).
+/// passed, a cell crossed)...
 pub const CROSSING_COST: Real = 0.71;
+/// ... and per contact the objects make (a new candidate pair to certify), fitted on the gas
+/// and the dense gas at 100 and 300 objects (2% and 15% of space filled).
+pub const CONTACT_COST: Real = 1.2;
 /// Elastic scenes above this many objects never get the brute force: each bounce re-plans two
 /// objects, which costs it two certificates per object.
 pub const ELASTIC_BRUTE_MAX: usize = 32;
 
 /// Whether the brute force is the cheaper choice for `n` objects that cross their own size
-/// `crossings` times in all over the run (see `kinetic_collide::structures::crossings`):
-/// its `n (n - 1) / 2` pair certificates against a box structure's cost per object and per
-/// crossing. It is, for a few dozen objects, and for a few hundred that travel far on a long
-/// horizon without bouncing. `shapes`: some objects are cuboids or hulls; `elastic`: balls
-/// bounce.
-pub fn brute_force_pays(n: usize, crossings: Real, shapes: bool, elastic: bool) -> bool {
+/// `crossings` times in all over the run (see `kinetic_collide::structures::crossings`) and
+/// make about `contacts` contacts (`kinetic_collide::structures::contacts`: more where they
+/// crowd): its `n (n - 1) / 2` pair certificates against a box structure's cost per object,
+/// per crossing and per contact. It is, for a few dozen objects, for a hundred that crowd,
+/// and for a few hundred that travel far on a long horizon without bouncing. `shapes`: some
+/// objects are cuboids or hulls; `elastic`: balls bounce.
+pub fn brute_force_pays(
+    n: usize,
+    crossings: Real,
+    contacts: Real,
+    shapes: bool,
+    elastic: bool,
+) -> bool {
     if elastic && n > ELASTIC_BRUTE_MAX {
         return false;
     }
@@ -63,7 +73,8 @@ pub fn brute_force_pays(n: usize, crossings: Real, shapes: bool, elastic: bool) 
         PAIR_COST
     };
     let nf = n as Real;
-    pair * nf * (nf - 1.0) / 2.0 <= OBJECT_COST * nf + CROSSING_COST * crossings
+    let boxes = OBJECT_COST * nf + CROSSING_COST * crossings + CONTACT_COST * contacts.max(0.0);
+    pair * nf * (nf - 1.0) / 2.0 <= boxes
 }
 
 /// A structure for free-flying objects.
@@ -223,15 +234,19 @@ mod tests {
     }
 
     #[test]
-    fn the_brute_force_for_few_objects_or_long_flights() {
-        assert!(brute_force_pays(10, 0.0, false, false));
-        assert!(!brute_force_pays(100, 0.0, false, false));
+    fn the_brute_force_for_few_objects_crowds_or_long_flights() {
+        assert!(brute_force_pays(10, 0.0, 0.0, false, false));
+        assert!(!brute_force_pays(100, 0.0, 0.0, false, false));
         // 100 balls each crossing its size 60 times over the run.
-        assert!(brute_force_pays(100, 6000.0, false, false));
-        assert!(!brute_force_pays(100, 2000.0, true, false));
-        assert!(!brute_force_pays(100, 6000.0, false, true));
-        assert!(!brute_force_pays(1000, 1e5, false, false));
-        assert!(!brute_force_pays(30, 0.0, true, false));
+        assert!(brute_force_pays(100, 6000.0, 0.0, false, false));
+        assert!(!brute_force_pays(100, 2000.0, 0.0, true, false));
+        assert!(!brute_force_pays(100, 6000.0, 0.0, false, true));
+        assert!(!brute_force_pays(1000, 1e5, 0.0, false, false));
+        assert!(!brute_force_pays(30, 0.0, 0.0, true, false));
+        // 100 balls crossing their size 10 times each: in a sparse gas (2% of space filled,
+        // 0.12 contacts per crossing) a box structure; in a crowd (15%, 0.9) the brute force.
+        assert!(!brute_force_pays(100, 1000.0, 120.0, false, false));
+        assert!(brute_force_pays(100, 1000.0, 900.0, false, false));
     }
 
     #[test]
