@@ -27,7 +27,8 @@
 //! ```
 //!
 //! `World::new` takes the candidate structure measured fastest for what it holds ([`Auto`]:
-//! the loose grid, then the grid or the sweep as sizes spread). Any other can be named, for
+//! the brute force for a few dozen objects, then the loose grid, then the grid or the sweep
+//! as sizes spread). Any other can be named, for
 //! example the collision tree of the paper's Section 2 ([`RollingTree`]) for balls rolling on
 //! a plane:
 //!

@@ -132,7 +132,8 @@ pub fn choose_structure(scene: &Scene) -> StructureName {
         return StructureName::BruteForce;
     }
     let resting = kinetic_flight::barely_moving(n, crossings);
-    kinetic_flight::for_flights(scene.size_ratio(), resting).into()
+    let plane = scene.world == WorldKind::Plane;
+    kinetic_flight::for_flights(scene.size_ratio(), resting, plane).into()
 }
 
 /// How many times the objects cross their own size over the horizon, summed: each object's

@@ -3,8 +3,9 @@
 //!
 //! `kinetic_core::World` runs any candidate structure and defaults to the brute force, the
 //! exact reference, because the core knows no other. This world defaults to [`Auto`]: the
-//! flight structure the registry's measured rule ([`kinetic_flight::for_flights`]) picks for
-//! the sizes of the objects it holds, re-picked when they spread past its bounds. Everything
+//! brute force for its first few dozen objects, then the flight structure the registry's
+//! measured rule ([`kinetic_flight::for_flights`]) picks for the sizes of the objects it
+//! holds, re-picked when they spread past its bounds. Everything
 //! else is the simulator's own: this type derefs to it, and forwards the methods that change
 //! the world itself, so that `world.advance_to(world.now() + 1.0)` borrows as it reads.
 
@@ -34,7 +35,8 @@ impl World {
         response: Response,
         walls: Option<Walls>,
     ) -> Result<World, WorldError> {
-        World::with_structure(kind, response, walls, Box::new(Auto::new()))
+        let auto = Auto::new().on_plane(kind == WorldKind::Plane);
+        World::with_structure(kind, response, walls, Box::new(auto))
     }
 
     /// An empty world with the given response, walls and candidate structure (any of the

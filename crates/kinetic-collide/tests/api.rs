@@ -32,15 +32,18 @@ fn the_world_and_every_structure_are_send_and_sync() {
     assert_eq!(handle.join().unwrap(), 1.0);
 }
 
-/// `World::new` gets the fast structure for what it holds, not the brute force, and reads
-/// as a user writes it (`world.advance_to(world.now() + dt)`).
+/// `World::new` gets the fast structure for what it holds: the brute force for a few dozen
+/// objects, then a box structure by their sizes; it reads as a user writes it
+/// (`world.advance_to(world.now() + dt)`).
 #[test]
-fn the_default_world_picks_its_structure_by_the_sizes_it_holds() {
+fn the_default_world_picks_its_structure_by_the_objects_it_holds() {
     let mut world = World::new(WorldKind::Free);
-    assert_eq!(world.structure_name(), "loose-grid");
+    assert_eq!(world.structure_name(), "brute-force");
     for k in 0..50 {
         let p = Vec3::new(3.0 * k as f64, 0.0, 0.0);
         world.add_ball(1.0, FlightPlan::linear(p, Vec3::X)).unwrap();
+        let want = if k < 32 { "brute-force" } else { "loose-grid" };
+        assert_eq!(world.structure_name(), want, "{} balls", k + 1);
     }
     world.advance_to(world.now() + 1.0).unwrap();
     assert_eq!(world.structure_name(), "loose-grid");
@@ -49,9 +52,9 @@ fn the_default_world_picks_its_structure_by_the_sizes_it_holds() {
         "{} certificates",
         world.certificates()
     );
-    // A boulder 250 times larger: the grid.
+    // A boulder 1000 times larger: the grid.
     world
-        .add_ball(250.0, FlightPlan::at_rest(Vec3::new(0.0, 1000.0, 0.0)))
+        .add_ball(1000.0, FlightPlan::at_rest(Vec3::new(0.0, 5000.0, 0.0)))
         .unwrap();
     assert_eq!(world.structure_name(), "grid");
     world.advance_to(world.now() + 1.0).unwrap();

@@ -1,12 +1,12 @@
 //! The default choice on the choice family: it always names a structure that applies to the
 //! scene, follows the documented rule, and gives the brute force's contacts.
 
-use kinetic_collide::Response;
 use kinetic_collide::kds::{
     GRID_SPREAD, LOOSE_SPREAD, RESTING_CROSSINGS, RESTING_GRID_MAX, brute_force_pays,
 };
 use kinetic_collide::run::{StructureName, choose_structure, run_scene};
 use kinetic_collide::structures::{contacts, crossings, heavy_pairs};
+use kinetic_collide::{Response, WorldKind};
 use kinetic_scenes::audit::assert_same_contacts;
 use kinetic_scenes::choice::{KINDS, choice_family};
 
@@ -34,7 +34,7 @@ fn the_default_applies_follows_the_rule_and_matches_the_brute_force() {
             StructureName::Grid
         } else if spread <= LOOSE_SPREAD {
             StructureName::LooseGrid
-        } else if spread <= GRID_SPREAD {
+        } else if spread <= GRID_SPREAD && scene.world == WorldKind::Free {
             StructureName::Grid
         } else {
             StructureName::Sweep

@@ -1,30 +1,37 @@
 //! `auto`: the flight structure picked by the measured rule ([`crate::for_flights`], for
-//! moving objects) for the objects it holds, for a world whose objects come one by one and whose sizes are not known
-//! when it is made (the library's default world).
+//! moving objects) for the objects it holds, for a world whose objects come one by one and
+//! whose sizes are not known when it is made (the library's default world).
 //!
-//! It starts as the loose grid (alike sizes) and keeps the spread of the outer radii of every
-//! object it has held. When a newcomer widens the spread past the rule's bound, it builds the
-//! structure the rule now names from every object it holds and hands its pairs over: the new
-//! structure's pairs are added before the old one's are let go, so no pair in contact is
-//! dropped for an instant and the log is the same as the new structure's from the start. The
-//! spread only grows, so this happens at most twice (loose grid, grid, sweep).
+//! It starts as the brute force, which costs least for a few dozen objects whatever they do
+//! (see [`crate::brute_force_pays`]), and keeps the spread of the outer radii of every object
+//! it has held. Once it holds more than [`ELASTIC_BRUTE_MAX`] objects, or a newcomer widens
+//! the spread past the rule's bound, it builds the structure the rule now names from every
+//! object it holds and hands its pairs over: the new structure's pairs are added before the
+//! old one's are let go, so no pair in contact is dropped for an instant and the log is the
+//! same as the new structure's from the start. It never goes back to the brute force, and the
+//! spread only grows, so this happens at most three times (brute force, loose grid, grid,
+//! sweep).
 
-use crate::choose::{Choice, for_flights};
+use crate::choose::{Choice, ELASTIC_BRUTE_MAX, for_flights};
 use crate::{Grid, LooseGrid, Sweep};
 use kinetic_core::kds::{Bodies, PairChange, additions_first};
-use kinetic_core::{CandidateStructure, Real, Vec3};
+use kinetic_core::{BruteForce, CandidateStructure, Real, Vec3};
 
 /// The flight structure the rule picks for the objects held so far.
 #[derive(Debug)]
 pub struct Auto {
-    choice: Choice,
+    /// The box structure in use; `None` while it is the brute force.
+    choice: Option<Choice>,
     inner: Box<dyn CandidateStructure>,
-    /// Whether each id is held.
+    /// Whether each id is held, and how many are.
     held: Vec<bool>,
+    live: usize,
     /// The smallest and largest outer radius of every object held so far.
     lo: Real,
     hi: Real,
     least_flight: Real,
+    /// Whether its objects roll on a plane (see [`for_flights`]).
+    plane: bool,
     switches: u64,
 }
 
@@ -35,7 +42,8 @@ impl Default for Auto {
 }
 
 impl Auto {
-    /// An empty structure (the loose grid until sizes spread).
+    /// An empty structure (the brute force for a few dozen objects, then the loose grid until
+    /// sizes spread).
     pub fn new() -> Auto {
         Auto::with_least_flight(0.0)
     }
@@ -49,19 +57,37 @@ impl Auto {
             0.0
         };
         Auto {
-            choice: Choice::Loose,
-            inner: make(Choice::Loose, least_flight),
+            choice: None,
+            inner: make(None, least_flight),
             held: Vec::new(),
+            live: 0,
             lo: Real::INFINITY,
             hi: 0.0,
             least_flight,
+            plane: false,
             switches: 0,
         }
     }
 
-    /// The structure in use.
-    pub fn choice(&self) -> Choice {
+    /// The same structure for balls rolling on a plane, for which the rule skips the grid.
+    pub fn on_plane(mut self, plane: bool) -> Auto {
+        self.plane = plane;
+        self
+    }
+
+    /// The box structure in use: `None` while it is the brute force.
+    pub fn choice(&self) -> Option<Choice> {
         self.choice
+    }
+
+    /// The structure the rule names for the objects held so far: the brute force while they
+    /// are few and it has never held more, else the box structure for their spread.
+    fn wanted(&self) -> Option<Choice> {
+        if self.choice.is_none() && self.live <= ELASTIC_BRUTE_MAX {
+            None
+        } else {
+            Some(for_flights(self.spread(), false, self.plane))
+        }
     }
 
     /// Widens the spread by the outer radii of `ids` and moves to the structure the rule
@@ -76,8 +102,12 @@ impl Auto {
                 }
             }
         }
-        let spread = self.spread();
-        let want = for_flights(spread, false);
+        let fresh = ids
+            .iter()
+            .filter(|&&id| !self.held.get(id as usize).copied().unwrap_or(false))
+            .count();
+        self.live += fresh;
+        let want = self.wanted();
         if want == self.choice {
             self.mark(ids, true);
             self.inner.insert_many(ids, bodies, now, changes);
@@ -123,18 +153,19 @@ impl Auto {
     }
 }
 
-/// An empty structure of kind `choice`.
-fn make(choice: Choice, least_flight: Real) -> Box<dyn CandidateStructure> {
+/// An empty structure of kind `choice` (`None`: the brute force).
+fn make(choice: Option<Choice>, least_flight: Real) -> Box<dyn CandidateStructure> {
     match choice {
-        Choice::Loose => Box::new(LooseGrid::new().with_least_flight(least_flight)),
-        Choice::Grid => Box::new(Grid::new().with_least_flight(least_flight)),
-        Choice::Sweep | Choice::Guards => Box::new(Sweep::new()),
+        None => Box::new(BruteForce::new()),
+        Some(Choice::Loose) => Box::new(LooseGrid::new().with_least_flight(least_flight)),
+        Some(Choice::Grid) => Box::new(Grid::new().with_least_flight(least_flight)),
+        Some(Choice::Sweep | Choice::Guards) => Box::new(Sweep::new()),
     }
 }
 
 impl CandidateStructure for Auto {
     fn name(&self) -> &'static str {
-        self.choice.name()
+        self.inner.name()
     }
 
     fn insert(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>) {
@@ -154,6 +185,7 @@ impl CandidateStructure for Auto {
     fn remove(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>) {
         if self.held.get(id as usize).copied().unwrap_or(false) {
             self.held[id as usize] = false;
+            self.live -= 1;
             self.inner.remove(id, bodies, now, changes);
         }
     }
@@ -198,11 +230,15 @@ impl CandidateStructure for Auto {
                 ));
             }
         }
-        let spread = self.spread();
-        if for_flights(spread, false) != self.choice {
+        let live = self.held.iter().filter(|&&h| h).count();
+        if live != self.live {
+            return Err(format!("auto: {live} objects held, {} counted", self.live));
+        }
+        if self.wanted() != self.choice {
             return Err(format!(
-                "auto: holds {} for a spread of {spread}",
-                self.choice.name()
+                "auto: holds {} for {live} objects of a spread of {}",
+                self.inner.name(),
+                self.spread()
             ));
         }
         self.inner.validate(bodies, now)

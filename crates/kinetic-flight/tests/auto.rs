@@ -1,13 +1,13 @@
 //! Every flight structure, and the default one ([`Auto`]), against the brute force: objects
-//! come in batches while the world runs, their sizes spread past the rule's bounds (loose
-//! grid, then grid, then sweep for `Auto`), new plans teleport objects and objects leave; the
-//! log must be the brute force's bit for bit, and the world and structure invariants hold
-//! after every event.
+//! come in batches while the world runs, their sizes spread past the rule's bounds (for
+//! `Auto`: the brute force for the first few dozen, then the loose grid, the grid, the
+//! sweep), new plans teleport objects and objects leave; the log must be the brute force's
+//! bit for bit, and the world and structure invariants hold after every event.
 
 use kinetic_core::{
     BruteForce, CandidateStructure, FlightPlan, ObjectId, Response, Vec3, World, WorldKind,
 };
-use kinetic_flight::{Auto, Choice, Grid, Guards, LooseGrid, Sweep};
+use kinetic_flight::{Auto, Choice, ELASTIC_BRUTE_MAX, Grid, Guards, LooseGrid, Sweep};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -35,9 +35,9 @@ fn random_ball(rng: &mut ChaCha8Rng, radius: f64, now: f64) -> (f64, FlightPlan)
 }
 
 /// The structures under test, by name.
-fn structure(name: &str) -> Box<dyn CandidateStructure> {
+fn structure(name: &str, kind: WorldKind) -> Box<dyn CandidateStructure> {
     match name {
-        "auto" => Box::new(Auto::new()),
+        "auto" => Box::new(Auto::new().on_plane(kind == WorldKind::Plane)),
         "sweep" => Box::new(Sweep::new()),
         "grid" => Box::new(Grid::new()),
         "loose-grid" => Box::new(LooseGrid::new()),
@@ -51,15 +51,15 @@ fn scenario(seed: u64, kind: WorldKind, name: &str) {
     let make = |s: Box<dyn CandidateStructure>| {
         World::with_structure(kind, Response::None, None, s).expect("a world")
     };
-    let mut auto = make(structure(name));
+    let mut auto = make(structure(name, kind));
     let mut brute = make(Box::new(BruteForce::new()));
     let mut ids: Vec<ObjectId> = Vec::new();
-    // Radii of each batch: alike, then a spread of 208x to 290x (grid), then over 600x
-    // (sweep).
+    // Radii of each batch: alike, then a spread of 600x to 1000x (grid; on a plane, the
+    // sweep), then over 4000x (sweep).
     let batches: [(usize, f64, f64, Choice); 3] = [
         (40, 0.2, 0.25, Choice::Loose),
-        (3, 52.0, 58.0, Choice::Grid),
-        (2, 150.0, 200.0, Choice::Sweep),
+        (3, 150.0, 200.0, Choice::Grid),
+        (2, 1000.0, 1100.0, Choice::Sweep),
     ];
     let mut t = 0.0;
     for (k, &(count, lo, hi, want)) in batches.iter().enumerate() {
@@ -76,6 +76,15 @@ fn scenario(seed: u64, kind: WorldKind, name: &str) {
                 let b = brute.add_ball(r, plan).expect("add");
                 assert_eq!(a, b);
                 ids.push(a);
+                if name == "auto" {
+                    // The brute force for a few dozen objects, then the rule's structure.
+                    let want = if ids.len() <= ELASTIC_BRUTE_MAX {
+                        "brute-force"
+                    } else {
+                        want.name()
+                    };
+                    assert_eq!(auto.structure_name(), want, "{} objects", ids.len());
+                }
             }
         } else {
             let a = auto.add_balls(balls.iter().copied()).expect("add");
@@ -85,6 +94,10 @@ fn scenario(seed: u64, kind: WorldKind, name: &str) {
         }
         auto.validate().expect("valid after adding");
         if name == "auto" {
+            let want = match (want, kind) {
+                (Choice::Grid, WorldKind::Plane) => Choice::Sweep,
+                _ => want,
+            };
             assert_eq!(auto.structure_name(), want.name(), "batch {k}");
         }
         for _ in 0..4 {
@@ -111,11 +124,9 @@ fn scenario(seed: u64, kind: WorldKind, name: &str) {
     if name == "auto" {
         let counters = auto.structure_counters();
         let switches = counters.iter().find(|(n, _)| *n == "switches");
-        assert_eq!(
-            switches.map(|s| s.1),
-            Some(2.0),
-            "loose grid to grid to sweep"
-        );
+        // Brute force, loose grid, grid, sweep; on a plane the sweep follows the loose grid.
+        let want = if kind == WorldKind::Plane { 2.0 } else { 3.0 };
+        assert_eq!(switches.map(|s| s.1), Some(want), "{kind:?}");
     }
     let (a, b) = (auto.drain_events(), brute.drain_events());
     assert!(a.len() > 20, "a run with contacts: {}", a.len());

@@ -23,10 +23,12 @@ pub struct ChoiceCase {
 }
 
 /// The kinds of scene in the family.
-pub const KINDS: [&str; 14] = [
+pub const KINDS: [&str; 16] = [
     "gas",
     "dense-gas",
     "sizes-1e2",
+    "sizes-250",
+    "sizes-1e3",
     "sizes-1e4",
     "bullets",
     "asteroids",
@@ -55,9 +57,24 @@ pub fn choice_scene(kind: &str, n: usize, seed: u64) -> Option<Scene> {
             ..gas
         }
         .build(),
-        // Balls of radii spanning 1:100 and 1:10^4, log-uniform, similar fill.
+        // Balls of radii spanning 1:100 to 1:10^4, log-uniform, similar fill.
         "sizes-1e2" => BallScene {
             r_min: 0.05,
+            r_max: 5.0,
+            side: 6.0 * (n as f64).cbrt(),
+            ..gas
+        }
+        .build(),
+        // Spreads on either side of the loose grid's bound (500x).
+        "sizes-250" => BallScene {
+            r_min: 0.02,
+            r_max: 5.0,
+            side: 6.0 * (n as f64).cbrt(),
+            ..gas
+        }
+        .build(),
+        "sizes-1e3" => BallScene {
+            r_min: 0.005,
             r_max: 5.0,
             side: 6.0 * (n as f64).cbrt(),
             ..gas
