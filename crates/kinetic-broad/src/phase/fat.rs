@@ -26,6 +26,11 @@ fn swept(lo: Vec3, hi: Vec3, d: Vec3) -> (Vec3, Vec3) {
     (lo + d.min(Vec3::ZERO), hi + d.max(Vec3::ZERO))
 }
 
+/// Whether box `inner` lies inside box `outer`.
+fn inside((lo, hi): Aabb, (min, max): Aabb) -> bool {
+    min.cmple(lo).all() && hi.cmple(max).all()
+}
+
 impl Motion {
     /// Whether its plan is at rest.
     pub(super) fn at_rest(&self) -> bool {
@@ -50,11 +55,10 @@ impl BroadPhaseCore {
             let Some(p) = self.proxies[i as usize] else {
                 return true;
             };
-            let (Some((min, max)), Some((lo, hi))) = (p.fat, engine.bounds(p.key)) else {
+            let (Some(fat), Some((lo, hi))) = (p.fat, engine.bounds(p.key)) else {
                 return false;
             };
-            let (lo, hi) = swept(lo, hi, v * dt);
-            min.cmple(lo).all() && hi.cmple(max).all()
+            inside(swept(lo, hi, v * dt), fat)
         })
     }
 
@@ -129,7 +133,7 @@ impl BroadPhaseCore {
                 ));
             };
             if let Some((lo, hi)) = engine.bounds(p.key)
-                && !(min.cmple(lo).all() && hi.cmple(max).all())
+                && !inside((lo, hi), (min, max))
             {
                 return Err(format!(
                     "collider {i} of body {b:?}: box {lo}..{hi} outside its fat box {min}..{max}"

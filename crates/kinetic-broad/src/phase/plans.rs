@@ -145,8 +145,7 @@ impl BroadPhaseCore {
             ballistic
         };
         m.plan = plan;
-        let rest = plan.velocity == Vec3::ZERO && plan.acceleration == Vec3::ZERO;
-        if !rest && !m.listed {
+        if !m.at_rest() && !m.listed {
             m.listed = true;
             self.moving.push(h);
         }
