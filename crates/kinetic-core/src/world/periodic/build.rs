@@ -137,6 +137,7 @@ impl PeriodicSpheres {
             zeno: ZenoGuard::default(),
             list_factor: shell * (1.0 + SLACK),
             event_counts: [0; 4],
+            kept: Vec::new(),
         };
         gas.list_all();
         // The first events, then a calendar whose buckets hold a few dozen events each.

@@ -108,6 +108,19 @@ impl Period {
         round(d * self.inv_side) * self.side
     }
 
+    /// The difference `d` of two centres taken to the nearest image, and the shift taken off
+    /// it (zero unless `d` is beyond half the box on some axis: listed pairs are within a
+    /// third of the box of their nearest image).
+    #[inline]
+    fn apart(&self, d: Vec3) -> (Vec3, Vec3) {
+        if d.abs().cmplt(self.half_side).all() {
+            (d, Vec3::ZERO)
+        } else {
+            let shift = self.nearest(d);
+            (d - shift, shift)
+        }
+    }
+
     /// The whole periods by which `p` lies outside the box (zero inside).
     #[inline]
     fn outside(&self, p: Vec3) -> Vec3 {
@@ -178,6 +191,8 @@ pub struct PeriodicSpheres {
     list_factor: Real,
     /// Events processed: collisions, stale events, shell crossings, grazes.
     event_counts: [u64; 4],
+    /// Room for the pairs a prediction keeps from a batch.
+    kept: Vec<predict::Kept>,
 }
 
 /// Bulk figures of a periodic run: collision rate, temperature and pressure.

@@ -172,6 +172,11 @@ impl PeriodicSpheres {
 
     /// Recomputes sphere `id`'s next event from its shell and its listed pairs (each through
     /// its nearest image now) and schedules it.
+    ///
+    /// Pairs go in batches. A first pass over a batch computes each pair's gap coefficients
+    /// with no branch that depends on the pair and keeps the few that may fail before the
+    /// shell crossing; a second pass takes their roots. The neighbours' motions are read
+    /// without waiting on a guess at the previous pair, and only kept pairs cost a root.
     pub(super) fn predict(&mut self, id: u32) {
         let i = id as usize;
         let m = self.motion[i];
@@ -179,51 +184,26 @@ impl PeriodicSpheres {
         let here = m.at(now);
         let exit = shell_exit(here, m.velocity, self.centre[i], self.shell[i]);
         let mut best = Earliest::new(now, now + exit);
-        let skips = !self.skips.is_empty();
-        let mine_now = m.t0 == now;
-        let half = self.period.half_side;
-        for &k in self.lists.of(id) {
-            let mb = &self.motion[k as usize];
-            let mut d = here - mb.at(now);
-            // A listed pair is within a third of the box of its nearest image: no shift
-            // unless the difference is beyond half the box on some axis.
-            let wraps = !d.abs().cmplt(half).all();
-            if wraps {
-                d -= self.period.nearest(d);
-            }
-            if (mine_now || mb.t0 == now) && !skips {
-                // Both plans started by now: the gap around now, in closed form where it is
-                // clear (as `pair_due` takes it, bit for bit).
-                let v = m.velocity - mb.velocity;
-                let b = d.dot(v);
-                if b > 0.0 {
-                    continue; // moving apart: the gap grows
-                }
-                let reach = m.radius + mb.radius;
-                let c0 = d.dot(d) - reach * reach;
-                let c1 = 2.0 * b;
-                if c0 > 0.0 && (c1 >= 0.0 || c0 > -c1 * best.limit) {
-                    continue; // apart and not approaching, or failing after the best
-                }
-                let c2 = v.dot(v);
-                let (p, q) = (4.0 * c2 * c0, c1 * c1);
-                if c0 > 0.0 && p - q > 1e-6 * (p + q) {
-                    continue; // approaching, but clearly missing
-                }
-                if let Some(t) = clear_first_contact(c0, c1, c2, now, now) {
-                    best.offer(t, false, k, |o| pair_key(self.ext[i], self.ext[o as usize]));
-                    continue;
+        if self.skips.is_empty() {
+            let mut kept = std::mem::take(&mut self.kept);
+            kept.resize(BATCH, Kept::NONE);
+            let list = self.lists.of(id);
+            for batch in list.chunks(BATCH) {
+                let kept_len = self.sift(&m, here, best.next.time, batch, &mut kept);
+                for pair in &kept[..kept_len] {
+                    self.offer_kept(id, &m, here, pair, &mut best);
                 }
             }
-            // The general case: plans that started before now, grazes, contact now.
-            let shift = if wraps {
-                self.period.nearest(here - mb.at(now))
-            } else {
-                Vec3::ZERO
-            };
-            let skip = if skips { self.skip_of(id, k) } else { None };
-            if let Some((t, graze)) = pair_due(&m, mb, shift, d, now, skip, best.next.time) {
-                best.offer(t, graze, k, |o| pair_key(self.ext[i], self.ext[o as usize]));
+            self.kept = kept;
+        } else {
+            for j in 0..self.lists.of(id).len() {
+                let k = self.lists.of(id)[j];
+                let mb = &self.motion[k as usize];
+                let (d, shift) = self.period.apart(here - mb.at(now));
+                let skip = self.skip_of(id, k);
+                if let Some((t, graze)) = pair_due(&m, mb, shift, d, now, skip, best.next.time) {
+                    best.offer(t, graze, k, |o| pair_key(self.ext[i], self.ext[o as usize]));
+                }
             }
         }
         let mut next = best.next;
@@ -231,9 +211,123 @@ impl PeriodicSpheres {
             next.tie = pair_key(self.ext[i], self.ext[next.other as usize]);
             next.counter = self.counter[next.other as usize];
         }
+        #[cfg(test)]
+        self.check_prediction(id, &next);
         self.next[i] = next;
         self.queue.schedule(id, next.time, next.tie);
     }
+
+    /// The first pass over a batch of `m`'s neighbours: writes to `kept` the pairs that
+    /// [`pair_due`] would not turn away at once with the bound `bound`, and returns how many.
+    /// Each pair's gap is taken around the later of the two plans' starts, as `pair_due`
+    /// takes it.
+    #[inline]
+    fn sift(&self, m: &Motion, here: Vec3, bound: Real, batch: &[u32], kept: &mut [Kept]) -> usize {
+        let now = self.now;
+        let motion = &self.motion[..];
+        // The starts first, in a loop of loads alone: the neighbours' motions are fetched
+        // together rather than one pair at a time.
+        let mut starts = [0.0; BATCH];
+        for (start, &k) in starts.iter_mut().zip(batch) {
+            *start = motion[k as usize].t0;
+        }
+        let kept = &mut kept[..batch.len()];
+        let mut len = 0;
+        for (&k, &t0) in batch.iter().zip(&starts) {
+            let mb = &motion[k as usize];
+            let (d, shift) = self.period.apart(here - mb.at(now));
+            let later = if m.t0 > t0 { m.t0 } else { t0 };
+            let base = if later < now { later } else { now };
+            let db = if base == now {
+                d
+            } else {
+                (m.at(base) - mb.at(base)) - shift
+            };
+            let reach = m.radius + mb.radius;
+            let threshold2 = reach * reach;
+            let v = m.velocity - mb.velocity;
+            let c0 = db.dot(db) - threshold2;
+            let c1 = 2.0 * db.dot(v);
+            let gap_now = if base == now {
+                c0
+            } else {
+                d.dot(d) - threshold2
+            };
+            let c2 = v.dot(v);
+            let (p, q) = (4.0 * c2 * c0, c1 * c1);
+            let apart = (c0 > 0.0) & (gap_now > 0.0);
+            let ahead = bound - base;
+            let after_bound =
+                ahead.is_finite() & (c0 > -c1 * (ahead * (1.0 + 1e-9) + bound.abs() * 1e-15));
+            let parting = (c0 <= 0.0) & (c1 > 0.0) & (base == now);
+            let none = parting | (apart & ((c1 >= 0.0) | after_bound | (p - q > 1e-6 * (p + q))));
+            kept[len] = Kept {
+                k,
+                c0,
+                c1,
+                c2,
+                base,
+                clear: apart,
+            };
+            len += usize::from(!none);
+        }
+        len
+    }
+
+    /// The second pass: a kept pair's failure time, in closed form where it is clear and by
+    /// [`pair_due`] otherwise, offered to `best`.
+    #[inline]
+    fn offer_kept(&self, id: u32, m: &Motion, here: Vec3, pair: &Kept, best: &mut Earliest) {
+        let &Kept {
+            k,
+            c0,
+            c1,
+            c2,
+            base,
+            clear,
+        } = pair;
+        let bound = best.next.time;
+        let ahead = bound - base;
+        if clear && ahead.is_finite() && c0 > -c1 * (ahead * (1.0 + 1e-9) + bound.abs() * 1e-15) {
+            return; // fails after the earliest found since the first pass
+        }
+        let key_of = |o: u32| pair_key(self.ext[id as usize], self.ext[o as usize]);
+        if clear && let Some(t) = clear_first_contact(c0, c1, c2, base, self.now) {
+            best.offer(t, false, k, key_of);
+            return;
+        }
+        let mb = &self.motion[k as usize];
+        let (d, shift) = self.period.apart(here - mb.at(self.now));
+        if let Some((t, graze)) = pair_due(m, mb, shift, d, self.now, None, bound) {
+            best.offer(t, graze, k, key_of);
+        }
+    }
+}
+
+/// Neighbours sifted in one batch.
+const BATCH: usize = 32;
+
+/// A pair kept by the first pass: the neighbour, the gap `c0 + c1 tau + c2 tau^2` around
+/// `base`, and whether the two are clear of each other at `base` and now.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Kept {
+    k: u32,
+    c0: Real,
+    c1: Real,
+    c2: Real,
+    base: Real,
+    clear: bool,
+}
+
+impl Kept {
+    const NONE: Kept = Kept {
+        k: 0,
+        c0: 0.0,
+        c1: 0.0,
+        c2: 0.0,
+        base: 0.0,
+        clear: false,
+    };
 }
 
 /// The earliest event found so far while predicting: the shell crossing or a pair, its tie
@@ -298,6 +392,33 @@ impl Earliest {
             graze,
             ..self.next
         };
+    }
+}
+
+#[cfg(test)]
+impl PeriodicSpheres {
+    /// Checks a prediction against every listed pair taken by [`pair_due`] with no bound.
+    fn check_prediction(&self, id: u32, next: &Next) {
+        let i = id as usize;
+        let m = self.motion[i];
+        let now = self.now;
+        let here = m.at(now);
+        let exit = shell_exit(here, m.velocity, self.centre[i], self.shell[i]);
+        let mut best = Earliest::new(now, now + exit);
+        for &k in self.lists.of(id) {
+            let mb = &self.motion[k as usize];
+            let (d, shift) = self.period.apart(here - mb.at(now));
+            let skip = self.skip_of(id, k);
+            if let Some((t, graze)) = pair_due(&m, mb, shift, d, now, skip, Real::INFINITY) {
+                best.offer(t, graze, k, |o| pair_key(self.ext[i], self.ext[o as usize]));
+            }
+        }
+        let want = best.next;
+        assert_eq!(
+            (want.time.to_bits(), want.kind, want.other, want.graze),
+            (next.time.to_bits(), next.kind, next.other, next.graze),
+            "sphere {id} at {now}: the batched prediction differs from every pair's"
+        );
     }
 }
 
