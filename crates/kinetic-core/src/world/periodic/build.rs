@@ -3,7 +3,7 @@
 
 use super::calendar::Calendar;
 use super::lists::{CentreGrid, Filed, Lists};
-use super::{Next, Period, PeriodicBox, PeriodicSpheres, SHELL, SLACK};
+use super::{Period, PeriodicBox, PeriodicSpheres, SHELL, SLACK};
 use crate::math::{Real, Vec3};
 use crate::plan::FlightPlan;
 use crate::world::motion::Motion;
@@ -121,7 +121,6 @@ impl PeriodicSpheres {
             ext,
             motion,
             counter: vec![0; n],
-            next: vec![Next::IDLE; n],
             centre,
             shell: shell_radius,
             lists: Lists::new(n, 16),
@@ -145,7 +144,7 @@ impl PeriodicSpheres {
         let mut finite = 0usize;
         for id in 0..n as u32 {
             gas.predict(id);
-            let t = gas.next[id as usize].time;
+            let t = gas.queue.get(id).map_or(Real::INFINITY, |e| e.0);
             if t.is_finite() {
                 sum += t;
                 finite += 1;
@@ -159,9 +158,11 @@ impl PeriodicSpheres {
         let width = 32.0 * mean / n.max(1) as Real;
         let buckets = (8.0 * mean / width).ceil().clamp(1.0, 1e7) as usize;
         let mut queue = Calendar::new(n, width, buckets, 0.0);
-        for (id, next) in gas.next.iter().enumerate() {
-            if next.time.is_finite() {
-                queue.schedule(id as u32, next.time, next.tie);
+        for id in 0..n as u32 {
+            if let Some((time, tie, scheduled)) = gas.queue.get(id)
+                && time.is_finite()
+            {
+                queue.schedule(id, time, tie, scheduled);
             }
         }
         gas.queue = queue;
@@ -194,6 +195,7 @@ impl PeriodicSpheres {
     /// Sphere `id` reached its shell: it re-centres where it is and lists again.
     pub(super) fn relist(&mut self, id: u32) {
         let i = id as usize;
+        std::hint::black_box(self.lists.touch(self.lists.of(id)));
         for j in 0..self.lists.of(id).len() {
             let other = self.lists.of(id)[j];
             self.lists.remove(other, id);

@@ -17,35 +17,38 @@ const LISTED: u32 = 1 << 31;
 const END: u32 = u32::MAX;
 
 #[derive(Clone, Copy, Debug)]
-struct Slot {
+struct Slot<P> {
     time: Real,
     tie: u64,
     place: u32,
     prev: u32,
     next: u32,
+    payload: P,
 }
 
-/// A heap entry: the key inline, so that sifting reads the heap alone.
+/// A heap entry: the key and the payload inline, so that sifting and popping read the heap
+/// alone.
 #[derive(Clone, Copy, Debug)]
-struct Entry {
+struct Entry<P> {
     time: Real,
     tie: u64,
     id: u32,
+    payload: P,
 }
 
-impl Entry {
+impl<P> Entry<P> {
     #[inline]
-    fn before(&self, other: &Entry) -> bool {
+    fn before(&self, other: &Entry<P>) -> bool {
         self.time < other.time
             || (self.time == other.time && (self.tie, self.id) < (other.tie, other.id))
     }
 }
 
-/// The queue.
+/// The queue: each id's entry carries a payload `P` that the queue hands back with it.
 #[derive(Clone, Debug)]
-pub(super) struct Calendar {
-    slots: Vec<Slot>,
-    heap: Vec<Entry>,
+pub(super) struct Calendar<P> {
+    slots: Vec<Slot<P>>,
+    heap: Vec<Entry<P>>,
     /// Heads of the bucket lists, then the overflow list's.
     heads: Vec<u32>,
     /// The inverse of the bucket width, and the time of bucket 0.
@@ -60,10 +63,10 @@ pub(super) struct Calendar {
     listed: usize,
 }
 
-impl Calendar {
+impl<P: Copy + Default> Calendar<P> {
     /// An empty queue for ids below `ids`, with buckets `width` wide, `buckets` of them
     /// after the current one, starting at time `origin`.
-    pub(super) fn new(ids: usize, width: Real, buckets: usize, origin: Real) -> Calendar {
+    pub(super) fn new(ids: usize, width: Real, buckets: usize, origin: Real) -> Calendar<P> {
         let width = if width.is_finite() && width > 0.0 {
             width
         } else {
@@ -78,6 +81,7 @@ impl Calendar {
                     place: ABSENT,
                     prev: END,
                     next: END,
+                    payload: P::default(),
                 };
                 ids
             ],
@@ -97,12 +101,13 @@ impl Calendar {
         self.buckets
     }
 
-    fn entry(&self, id: u32) -> Entry {
+    fn entry(&self, id: u32) -> Entry<P> {
         let s = &self.slots[id as usize];
         Entry {
             time: s.time,
             tie: s.tie,
             id,
+            payload: s.payload,
         }
     }
 
@@ -111,27 +116,32 @@ impl Calendar {
         self.heap.first().map_or(Real::INFINITY, |e| e.time)
     }
 
-    /// The time `id` is scheduled at, if it is.
-    pub(super) fn time_of(&self, id: u32) -> Option<Real> {
+    /// The time, tie and payload `id` is scheduled with, if it is.
+    pub(super) fn get(&self, id: u32) -> Option<(Real, u64, P)> {
         let s = &self.slots[id as usize];
-        (s.place != ABSENT).then_some(s.time)
+        (s.place != ABSENT).then_some((s.time, s.tie, s.payload))
     }
 
-    /// The earliest event: its id and time.
-    pub(super) fn peek(&self) -> Option<(u32, Real)> {
-        self.heap.first().map(|e| (e.id, e.time))
+    /// The earliest event: its id, time and payload.
+    pub(super) fn peek(&self) -> Option<(u32, Real, P)> {
+        self.heap.first().map(|e| (e.id, e.time, e.payload))
     }
 
-    /// Schedules `id` at `(time, tie)`, replacing its entry.
-    pub(super) fn schedule(&mut self, id: u32, time: Real, tie: u64) {
+    /// Schedules `id` at `(time, tie)` with `payload`, replacing its entry.
+    pub(super) fn schedule(&mut self, id: u32, time: Real, tie: u64, payload: P) {
         let place = self.slots[id as usize].place;
         let bucket = (time - self.origin) * self.inv_width;
         if place < LISTED && bucket < (self.current + 1) as Real {
             // In the heap, and staying there: move it in place.
             let s = &mut self.slots[id as usize];
-            (s.time, s.tie) = (time, tie);
+            (s.time, s.tie, s.payload) = (time, tie, payload);
             let pos = place as usize;
-            self.heap[pos] = Entry { time, tie, id };
+            self.heap[pos] = Entry {
+                time,
+                tie,
+                id,
+                payload,
+            };
             self.sift_down(pos);
             self.sift_up(pos);
             return;
@@ -140,6 +150,7 @@ impl Calendar {
         let s = &mut self.slots[id as usize];
         s.time = time;
         s.tie = tie;
+        s.payload = payload;
         self.len += 1;
         if bucket < (self.current + 1) as Real || time.is_nan() {
             self.heap_push(id);
@@ -388,7 +399,7 @@ mod tests {
             state
         };
         let ids = 200;
-        let mut q = Calendar::new(ids, 0.01, 50, 0.0);
+        let mut q = Calendar::<()>::new(ids, 0.01, 50, 0.0);
         let mut reference: Vec<Option<(Real, u64)>> = vec![None; ids];
         let mut now = 0.0;
         for _ in 0..20_000 {
@@ -409,7 +420,7 @@ mod tests {
                         (rand() % 1000) as Real * 1e-4
                     };
                     let tie = rand() % 3;
-                    q.schedule(id, now + dt, tie);
+                    q.schedule(id, now + dt, tie, ());
                     reference[id as usize] = Some((now + dt, tie));
                 }
                 _ => {
@@ -420,7 +431,7 @@ mod tests {
                         .min_by(|a, b| a.0.total_cmp(&b.0).then((a.1, a.2).cmp(&(b.1, b.2))));
                     let got = q.peek();
                     assert_eq!(got.map(|g| (g.1, g.0)), expected.map(|e| (e.0, e.2)));
-                    if let Some((id, t)) = got {
+                    if let Some((id, t, ())) = got {
                         now = t;
                         q.remove(id);
                         reference[id as usize] = None;

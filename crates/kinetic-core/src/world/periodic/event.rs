@@ -1,7 +1,7 @@
 //! Processing events: collisions (the elastic exchange through the pair's image), stale
 //! events, shell crossings.
 
-use super::{Kind, Motion, Next, Period, PeriodicSpheres};
+use super::{Kind, Motion, Period, PeriodicSpheres};
 use crate::math::{Real, Vec3};
 use crate::world::step::Exchange;
 use crate::world::{ContactEvent, ContactKind, ObjectId, WorldError};
@@ -39,7 +39,7 @@ pub(super) fn wrapped(period: &Period, p: Vec3) -> (Vec3, Vec3) {
 impl PeriodicSpheres {
     /// Processes the next event if it is due by `until`; returns whether one was.
     pub fn step(&mut self, until: Real) -> Result<bool, WorldError> {
-        let Some((id, time)) = self.queue.peek() else {
+        let Some((id, time, next)) = self.queue.peek() else {
             return Ok(false);
         };
         if time > until || time.is_nan() {
@@ -49,7 +49,6 @@ impl PeriodicSpheres {
             self.now = time;
         }
         let i = id as usize;
-        let next = std::mem::replace(&mut self.next[i], Next::IDLE);
         let mut partner = id;
         match next.kind {
             Kind::Idle => {

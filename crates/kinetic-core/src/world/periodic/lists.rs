@@ -1,31 +1,28 @@
 //! Neighbour lists (a fixed stride per sphere, grown when a list overflows) and the cell grid
 //! of list centres they are made from.
 
-use super::NIL;
 use crate::math::{Real, Vec3};
 
-/// Every sphere's neighbours, `stride` slots each.
+/// Every sphere's neighbours, in a row of `stride` slots each: the row's first slot holds the
+/// list's length, the others its neighbours, so that a list is one or two cache lines.
 #[derive(Clone, Debug)]
 pub(super) struct Lists {
     stride: usize,
-    len: Vec<u16>,
     slots: Vec<u32>,
     total: usize,
 }
-
-const EMPTY: u32 = NIL;
 
 impl Lists {
     pub(super) fn new(spheres: usize, stride: usize) -> Lists {
         let stride = stride.clamp(4, u16::MAX as usize);
         Lists {
             stride,
-            len: vec![0; spheres],
-            slots: vec![EMPTY; spheres * stride],
+            slots: vec![0; spheres * stride],
             total: 0,
         }
     }
 
+    /// Slots per row (one more than a list can hold before the rows grow).
     pub(super) fn stride(&self) -> usize {
         self.stride
     }
@@ -38,47 +35,62 @@ impl Lists {
     #[inline]
     pub(super) fn of(&self, i: u32) -> &[u32] {
         let at = i as usize * self.stride;
-        &self.slots[at..at + self.len[i as usize] as usize]
+        let len = self.slots[at] as usize;
+        &self.slots[at + 1..at + 1 + len]
+    }
+
+    /// Reads the length of each of the lists of `ids` in one go, so that their rows are
+    /// fetched together before they are worked on; returns the sum of the lengths.
+    #[inline]
+    pub(super) fn touch(&self, ids: &[u32]) -> u32 {
+        ids.iter()
+            .map(|&i| self.slots[i as usize * self.stride])
+            .fold(0, u32::wrapping_add)
     }
 
     pub(super) fn push(&mut self, i: u32, n: u32) {
-        if self.len[i as usize] as usize == self.stride {
+        let mut at = i as usize * self.stride;
+        if self.slots[at] as usize + 1 == self.stride {
             self.grow();
+            at = i as usize * self.stride;
         }
-        let l = &mut self.len[i as usize];
-        self.slots[i as usize * self.stride + *l as usize] = n;
-        *l += 1;
+        let len = self.slots[at] as usize;
+        self.slots[at + 1 + len] = n;
+        self.slots[at] += 1;
         self.total += 1;
     }
 
     /// Removes `other` from `i`'s list (order is not kept).
     pub(super) fn remove(&mut self, i: u32, other: u32) {
         let at = i as usize * self.stride;
-        let l = self.len[i as usize] as usize;
-        if let Some(k) = self.slots[at..at + l].iter().position(|&n| n == other) {
-            self.slots[at + k] = self.slots[at + l - 1];
-            self.len[i as usize] -= 1;
+        let len = self.slots[at] as usize;
+        let row = &mut self.slots[at + 1..at + 1 + len];
+        if let Some(k) = row.iter().position(|&n| n == other) {
+            row[k] = row[len - 1];
+            self.slots[at] -= 1;
             self.total -= 1;
         }
     }
 
     pub(super) fn clear(&mut self, i: u32) {
-        self.total -= self.len[i as usize] as usize;
-        self.len[i as usize] = 0;
+        let at = i as usize * self.stride;
+        self.total -= self.slots[at] as usize;
+        self.slots[at] = 0;
     }
 
-    /// Doubles the stride (a list is full): every list moves to its new place.
+    /// Doubles the stride (a list is full): every row moves to its new place.
     fn grow(&mut self) {
         let stride = (self.stride * 2).min(u16::MAX as usize);
         assert!(
             stride > self.stride,
-            "a neighbour list holds at most 65535 spheres"
+            "a neighbour list holds at most 65534 spheres"
         );
-        let mut slots = vec![EMPTY; self.len.len() * stride];
-        for (i, &l) in self.len.iter().enumerate() {
+        let spheres = self.slots.len() / self.stride;
+        let mut slots = vec![0; spheres * stride];
+        for i in 0..spheres {
             let from = i * self.stride;
-            slots[i * stride..i * stride + l as usize]
-                .copy_from_slice(&self.slots[from..from + l as usize]);
+            let used = self.slots[from] as usize + 1;
+            slots[i * stride..i * stride + used].copy_from_slice(&self.slots[from..from + used]);
         }
         self.slots = slots;
         self.stride = stride;
@@ -174,21 +186,32 @@ impl CentreGrid {
         self.cell_of[id as usize] = u32::MAX;
     }
 
-    /// Calls `f` on each centre filed in the 27 cells around `c` (with wrap-around).
+    /// Calls `f` on each centre filed in the 27 cells around `c` (with wrap-around). The
+    /// cells are read first, each one's first centre with them, so that they are fetched
+    /// together.
     #[inline]
     pub(super) fn for_each_around(&self, c: [u32; 3], mut f: impl FnMut(&Filed)) {
         let n = self.n;
+        let mut around: [&[Filed]; 27] = [&[]; 27];
+        let mut at = 0;
         for dz in [n[2] - 1, 0, 1] {
             let z = (c[2] + dz) % n[2];
             for dy in [n[1] - 1, 0, 1] {
                 let y = (c[1] + dy) % n[1];
                 for dx in [n[0] - 1, 0, 1] {
                     let x = (c[0] + dx) % n[0];
-                    self.cells[self.index([x, y, z]) as usize]
-                        .iter()
-                        .for_each(&mut f);
+                    around[at] = &self.cells[self.index([x, y, z]) as usize];
+                    at += 1;
                 }
             }
+        }
+        let first: Real = around
+            .iter()
+            .map(|cell| cell.first().map_or(0.0, |f| f.radius))
+            .sum();
+        std::hint::black_box(first);
+        for cell in around {
+            cell.iter().for_each(&mut f);
         }
     }
 }

@@ -59,9 +59,10 @@ pub struct PeriodicBox {
 }
 
 /// What a sphere's scheduled event is.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 enum Kind {
     /// Nothing scheduled.
+    #[default]
     Idle,
     /// A pair certificate fails: a collision, or a graze.
     Pair,
@@ -81,7 +82,27 @@ struct Next {
     graze: bool,
 }
 
+/// What the queue carries with a sphere's event besides its time and tie-break: the kind,
+/// and for a pair the partner and the partner's plan number when it was predicted.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Scheduled {
+    kind: Kind,
+    graze: bool,
+    other: u32,
+    counter: u32,
+}
+
 impl Next {
+    /// What the queue carries of it.
+    fn scheduled(&self) -> Scheduled {
+        Scheduled {
+            kind: self.kind,
+            graze: self.graze,
+            other: self.other,
+            counter: self.counter,
+        }
+    }
+
     const IDLE: Next = Next {
         time: Real::INFINITY,
         tie: u64::MAX,
@@ -167,13 +188,13 @@ pub struct PeriodicSpheres {
     motion: Vec<Motion>,
     /// Plan numbers: bumped whenever a sphere's plan changes.
     counter: Vec<u32>,
-    next: Vec<Next>,
     /// List centres, and the sphere's distance from it at which the list must be remade.
     centre: Vec<Vec3>,
     shell: Vec<Real>,
     lists: lists::Lists,
     grid: lists::CentreGrid,
-    queue: Calendar,
+    /// Each sphere's next event.
+    queue: Calendar<Scheduled>,
     /// Pair events consumed without a change of plans (grazes): `(other, its counter, time)`.
     skips: FxHashMap<u32, Vec<(u32, u32, Real)>>,
     events: Vec<ContactEvent>,

@@ -189,7 +189,12 @@ impl PeriodicSpheres {
             kept.resize(BATCH, Kept::NONE);
             let list = self.lists.of(id);
             for batch in list.chunks(BATCH) {
-                let kept_len = self.sift(&m, here, best.next.time, batch, &mut kept);
+                let bound = best.next.time;
+                let kept_len = if m.t0 == now {
+                    self.sift::<true>(&m, here, bound, batch, &mut kept)
+                } else {
+                    self.sift::<false>(&m, here, bound, batch, &mut kept)
+                };
                 for pair in &kept[..kept_len] {
                     self.offer_kept(id, &m, here, pair, &mut best);
                 }
@@ -213,18 +218,27 @@ impl PeriodicSpheres {
         }
         #[cfg(test)]
         self.check_prediction(id, &next);
-        self.next[i] = next;
-        self.queue.schedule(id, next.time, next.tie);
+        self.queue
+            .schedule(id, next.time, next.tie, next.scheduled());
     }
 
     /// The first pass over a batch of `m`'s neighbours: writes to `kept` the pairs that
-    /// [`pair_due`] would not turn away at once with the bound `bound`, and returns how many.
-    /// Each pair's gap is taken around the later of the two plans' starts, as `pair_due`
-    /// takes it.
+    /// [`pair_due`] would not turn away at once (apart, and parting or failing after `bound`),
+    /// and returns how many. Each pair's gap is taken around the later of the two plans'
+    /// starts, as `pair_due` takes it; `STARTED_NOW` says that `m`'s plan starts now, so that
+    /// every pair's gap is taken around now.
     #[inline]
-    fn sift(&self, m: &Motion, here: Vec3, bound: Real, batch: &[u32], kept: &mut [Kept]) -> usize {
+    fn sift<const STARTED_NOW: bool>(
+        &self,
+        m: &Motion,
+        here: Vec3,
+        bound: Real,
+        batch: &[u32],
+        kept: &mut [Kept],
+    ) -> usize {
         let now = self.now;
         let motion = &self.motion[..];
+        let half = self.period.half_side;
         // The starts first, in a loop of loads alone: the neighbours' motions are fetched
         // together rather than one pair at a time.
         let mut starts = [0.0; BATCH];
@@ -235,37 +249,48 @@ impl PeriodicSpheres {
         let mut len = 0;
         for (&k, &t0) in batch.iter().zip(&starts) {
             let mb = &motion[k as usize];
-            let (d, shift) = self.period.apart(here - mb.at(now));
-            let later = if m.t0 > t0 { m.t0 } else { t0 };
-            let base = if later < now { later } else { now };
-            let db = if base == now {
-                d
-            } else {
-                (m.at(base) - mb.at(base)) - shift
-            };
+            let mut d = here - mb.at(now);
+            let near = (d.x.abs() < half.x) & (d.y.abs() < half.y) & (d.z.abs() < half.z);
+            let mut shift = Vec3::ZERO;
+            if !near {
+                shift = self.period.nearest(d);
+                d -= shift;
+            }
             let reach = m.radius + mb.radius;
             let threshold2 = reach * reach;
             let v = m.velocity - mb.velocity;
-            let c0 = db.dot(db) - threshold2;
-            let c1 = 2.0 * db.dot(v);
-            let gap_now = if base == now {
-                c0
+            let (base, c0, c1, gap_now);
+            if STARTED_NOW {
+                base = now;
+                c0 = d.dot(d) - threshold2;
+                c1 = 2.0 * d.dot(v);
+                gap_now = c0;
             } else {
-                d.dot(d) - threshold2
-            };
-            let c2 = v.dot(v);
-            let (p, q) = (4.0 * c2 * c0, c1 * c1);
+                let later = if m.t0 > t0 { m.t0 } else { t0 };
+                base = if later < now { later } else { now };
+                let db = if base == now {
+                    d
+                } else {
+                    (m.at(base) - mb.at(base)) - shift
+                };
+                c0 = db.dot(db) - threshold2;
+                c1 = 2.0 * db.dot(v);
+                gap_now = if base == now {
+                    c0
+                } else {
+                    d.dot(d) - threshold2
+                };
+            }
             let apart = (c0 > 0.0) & (gap_now > 0.0);
             let ahead = bound - base;
             let after_bound =
                 ahead.is_finite() & (c0 > -c1 * (ahead * (1.0 + 1e-9) + bound.abs() * 1e-15));
             let parting = (c0 <= 0.0) & (c1 > 0.0) & (base == now);
-            let none = parting | (apart & ((c1 >= 0.0) | after_bound | (p - q > 1e-6 * (p + q))));
+            let none = parting | (apart & ((c1 >= 0.0) | after_bound));
             kept[len] = Kept {
                 k,
                 c0,
                 c1,
-                c2,
                 base,
                 clear: apart,
             };
@@ -282,24 +307,35 @@ impl PeriodicSpheres {
             k,
             c0,
             c1,
-            c2,
             base,
             clear,
         } = pair;
-        let bound = best.next.time;
-        let ahead = bound - base;
-        if clear && ahead.is_finite() && c0 > -c1 * (ahead * (1.0 + 1e-9) + bound.abs() * 1e-15) {
-            return; // fails after the earliest found since the first pass
-        }
-        let key_of = |o: u32| pair_key(self.ext[id as usize], self.ext[o as usize]);
-        if clear && let Some(t) = clear_first_contact(c0, c1, c2, base, self.now) {
-            best.offer(t, false, k, key_of);
-            return;
-        }
         let mb = &self.motion[k as usize];
+        let bound = best.next.time;
+        if clear {
+            // As `pair_due` takes a pair clear of the other at base and now, approaching.
+            let ahead = bound - base;
+            if ahead.is_finite() && c0 > -c1 * (ahead * (1.0 + 1e-9) + bound.abs() * 1e-15) {
+                return; // fails after the earliest found since the first pass
+            }
+            let v = m.velocity - mb.velocity;
+            let c2 = v.dot(v);
+            let (p, q) = (4.0 * c2 * c0, c1 * c1);
+            if p - q > 1e-6 * (p + q) {
+                return; // clearly missing
+            }
+            if let Some(t) = clear_first_contact(c0, c1, c2, base, self.now) {
+                best.offer(t, false, k, |o| {
+                    pair_key(self.ext[id as usize], self.ext[o as usize])
+                });
+                return;
+            }
+        }
         let (d, shift) = self.period.apart(here - mb.at(self.now));
         if let Some((t, graze)) = pair_due(m, mb, shift, d, self.now, None, bound) {
-            best.offer(t, graze, k, key_of);
+            best.offer(t, graze, k, |o| {
+                pair_key(self.ext[id as usize], self.ext[o as usize])
+            });
         }
     }
 }
@@ -307,14 +343,14 @@ impl PeriodicSpheres {
 /// Neighbours sifted in one batch.
 const BATCH: usize = 32;
 
-/// A pair kept by the first pass: the neighbour, the gap `c0 + c1 tau + c2 tau^2` around
-/// `base`, and whether the two are clear of each other at `base` and now.
+/// A pair kept by the first pass: the neighbour, the first two coefficients of its gap
+/// `c0 + c1 tau + c2 tau^2` around `base`, and whether the two are clear of each other at
+/// `base` and now.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Kept {
     k: u32,
     c0: Real,
     c1: Real,
-    c2: Real,
     base: Real,
     clear: bool,
 }
@@ -324,7 +360,6 @@ impl Kept {
         k: 0,
         c0: 0.0,
         c1: 0.0,
-        c2: 0.0,
         base: 0.0,
         clear: false,
     };
