@@ -3,7 +3,7 @@
 
 use super::calendar::Calendar;
 use super::lists::{CentreGrid, Filed, Lists};
-use super::{Period, PeriodicBox, PeriodicSpheres, SHELL, SLACK};
+use super::{NEIGHBOURS, Period, PeriodicBox, PeriodicSpheres, SHELL, SLACK};
 use crate::math::{Real, Vec3};
 use crate::plan::FlightPlan;
 use crate::world::motion::Motion;
@@ -29,12 +29,20 @@ fn invalid(what: String) -> WorldError {
 }
 
 impl PeriodicSpheres {
-    /// The shell factor for a box of `side` and a largest radius `r_max`: [`SHELL`], or less
-    /// where the box is small, so that it is three list reaches wide; `None` when the box is
-    /// too small even for a thin shell.
-    fn shell_factor(side: Vec3, r_max: Real) -> Option<Real> {
+    /// The shell factor for spheres filling a share `packing` of a box of `side`, the
+    /// largest of radius `r_max`: the factor at which a sphere lists about [`NEIGHBOURS`]
+    /// others (equal spheres list `8 packing shell^3`), within [`SHELL`], or less where the
+    /// box is small, so that it is three list reaches wide; `None` when the box is too small
+    /// even for a thin shell.
+    fn shell_factor(side: Vec3, r_max: Real, packing: Real) -> Option<Real> {
         let fit = side.min_element() / (3.0 * 2.0 * r_max * (1.0 + 1e-6));
-        let shell = SHELL.min(fit);
+        let wanted = (NEIGHBOURS / (8.0 * packing)).cbrt();
+        let shell = if wanted.is_finite() {
+            wanted.clamp(SHELL.0, SHELL.1)
+        } else {
+            SHELL.1
+        };
+        let shell = shell.min(fit);
         (shell >= 1.01).then_some(shell)
     }
 
@@ -70,10 +78,15 @@ impl PeriodicSpheres {
             }
             r_max = r_max.max(*r);
         }
+        let filled: Real = spheres
+            .iter()
+            .map(|(r, _)| 4.0 / 3.0 * std::f64::consts::PI * r * r * r)
+            .sum();
+        let packing = filled / (side.x * side.y * side.z);
         let shell = if spheres.is_empty() {
-            SHELL
+            SHELL.0
         } else {
-            Self::shell_factor(side, r_max).ok_or_else(|| {
+            Self::shell_factor(side, r_max, packing).ok_or_else(|| {
                 invalid(format!(
                     "periodic box: each side must be at least {:.4} (3.03 largest diameters), got {side:?}",
                     6.06 * r_max

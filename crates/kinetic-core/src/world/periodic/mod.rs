@@ -12,8 +12,9 @@
 //!   A sphere's plan is the world's; when a collision gives it a new plan whose start lies
 //!   outside the box, the start is wrapped into it (a whole number of periods).
 //! - **Neighbour lists with a shell.** Each sphere has a list centre (its position when the
-//!   list was made) and lists the spheres whose centres were within `SHELL (r_a + r_b)` of it.
-//!   While each sphere stays within `(SHELL - 1) r` of its centre, an unlisted pair cannot
+//!   list was made) and lists the spheres whose centres were within `s (r_a + r_b)` of it,
+//!   with a shell factor `s` chosen from the packing so that a sphere lists about 16 others.
+//!   While each sphere stays within `(s - 1) r` of its centre, an unlisted pair cannot
 //!   touch; a sphere that reaches its shell re-centres and lists again from a cell grid of
 //!   centres. Lists are symmetric: re-listing one sphere updates its neighbours' lists.
 //! - **One event per sphere**, the earliest of its shell crossing and its listed pairs,
@@ -39,8 +40,12 @@ use crate::math::{Real, Vec3};
 use calendar::Calendar;
 use rustc_hash::FxHashMap;
 
-/// A sphere lists the spheres within this many times the sum of radii.
-const SHELL: Real = 1.5;
+/// A sphere lists the spheres within a shell factor times the sum of radii: about this many
+/// of them. Measured on fluids at packings 0.26 and 0.45, about 16 neighbours are fastest
+/// (fewer shell crossings in thin fluids, few enough pairs in dense ones).
+const NEIGHBOURS: Real = 16.0;
+/// The least and greatest shell factors.
+const SHELL: (Real, Real) = (1.3, 2.5);
 /// Reaches used to list pairs are this much (relative) wider, and shells this much narrower,
 /// than the geometry needs: rounding at a shell crossing cannot hide a pair.
 const SLACK: Real = 1e-9;
