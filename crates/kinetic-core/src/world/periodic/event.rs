@@ -82,6 +82,8 @@ impl PeriodicSpheres {
     /// A pair certificate fails: report the contact and respond. Spheres whose plans do not
     /// change (a graze, or spheres that are not approaching) skip that event of the pair.
     fn fire(&mut self, a: u32, b: u32, graze: bool) {
+        // Both spheres predict again below: their neighbours are fetched together first.
+        std::hint::black_box(self.touch_neighbours(a) + self.touch_neighbours(b));
         let (ea, eb) = (self.ext[a as usize], self.ext[b as usize]);
         self.stats.begins += 1;
         self.events.push(ContactEvent {
@@ -109,6 +111,17 @@ impl PeriodicSpheres {
         self.skips.entry(b).or_default().push((a, ca, now));
         self.predict(a);
         self.predict(b);
+    }
+
+    /// Reads the start of each of `id`'s neighbours' motions, in a loop of loads alone, so
+    /// that they are fetched together; returns their sum.
+    #[inline]
+    fn touch_neighbours(&self, id: u32) -> Real {
+        self.lists
+            .of(id)
+            .iter()
+            .map(|&k| self.motion[k as usize].t0)
+            .sum()
     }
 
     /// Sphere `id` moves on from now at `velocity`: its old predictions are stale. A start
