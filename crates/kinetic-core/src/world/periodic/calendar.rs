@@ -127,6 +127,12 @@ impl<P: Copy + Default> Calendar<P> {
         self.heap.first().map(|e| (e.id, e.time, e.payload))
     }
 
+    /// The entries that come next after the earliest when nothing is scheduled meanwhile:
+    /// the heap's second and third (either may be the next).
+    pub(super) fn following(&self) -> impl Iterator<Item = (u32, P)> + '_ {
+        self.heap.iter().skip(1).take(2).map(|e| (e.id, e.payload))
+    }
+
     /// Schedules `id` at `(time, tie)` with `payload`, replacing its entry.
     pub(super) fn schedule(&mut self, id: u32, time: Real, tie: u64, payload: P) {
         let place = self.slots[id as usize].place;

@@ -1,7 +1,8 @@
 //! Processing events: collisions (the elastic exchange through the pair's image), stale
 //! events, shell crossings.
 
-use super::{Kind, Motion, Period, PeriodicSpheres};
+use super::{Kind, Motion, Period, PeriodicSpheres, Scheduled};
+use crate::prefetch::prefetch;
 use crate::math::{Real, Vec3};
 use crate::world::step::Exchange;
 use crate::world::{ContactEvent, ContactKind, ObjectId, WorldError};
@@ -45,6 +46,10 @@ impl PeriodicSpheres {
         if time > until || time.is_nan() {
             return Ok(false);
         }
+        // The spheres of the events likely to come next are fetched while this one is done.
+        for (other_id, other_next) in self.queue.following() {
+            self.prefetch_event(other_id, &other_next);
+        }
         if time > self.now {
             self.now = time;
         }
@@ -83,7 +88,8 @@ impl PeriodicSpheres {
     /// change (a graze, or spheres that are not approaching) skip that event of the pair.
     fn fire(&mut self, a: u32, b: u32, graze: bool) {
         // Both spheres predict again below: their neighbours are fetched together first.
-        std::hint::black_box(self.touch_neighbours(a) + self.touch_neighbours(b));
+        self.prefetch_neighbours(a);
+        self.prefetch_neighbours(b);
         let (ea, eb) = (self.ext[a as usize], self.ext[b as usize]);
         self.stats.begins += 1;
         self.events.push(ContactEvent {
@@ -113,15 +119,26 @@ impl PeriodicSpheres {
         self.predict(b);
     }
 
-    /// Reads the start of each of `id`'s neighbours' motions, in a loop of loads alone, so
-    /// that they are fetched together; returns their sum.
+    /// Asks for what processing `id`'s event `next` reads first: its sphere, its list, and
+    /// for a pair the partner's.
     #[inline]
-    fn touch_neighbours(&self, id: u32) -> Real {
-        self.lists
-            .of(id)
-            .iter()
-            .map(|&k| self.motion[k as usize].t0)
-            .sum()
+    fn prefetch_event(&self, id: u32, next: &Scheduled) {
+        prefetch(&self.motion[id as usize]);
+        self.lists.prefetch(id);
+        if next.kind == Kind::Pair {
+            let other = next.other as usize;
+            prefetch(&self.counter[other]);
+            prefetch(&self.motion[other]);
+            self.lists.prefetch(next.other);
+        }
+    }
+
+    /// Asks for the motions of `id`'s neighbours.
+    #[inline]
+    fn prefetch_neighbours(&self, id: u32) {
+        for &k in self.lists.of(id) {
+            prefetch(&self.motion[k as usize]);
+        }
     }
 
     /// Sphere `id` moves on from now at `velocity`: its old predictions are stale. A start

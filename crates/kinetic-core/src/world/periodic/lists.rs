@@ -2,6 +2,7 @@
 //! of list centres they are made from.
 
 use crate::math::{Real, Vec3};
+use crate::prefetch::prefetch;
 
 /// Every sphere's neighbours, in a row of `stride` slots each: the row's first slot holds the
 /// list's length, the others its neighbours, so that a list is one or two cache lines.
@@ -46,6 +47,16 @@ impl Lists {
         ids.iter()
             .map(|&i| self.slots[i as usize * self.stride])
             .fold(0, u32::wrapping_add)
+    }
+
+    /// Asks for `i`'s row to be fetched (its first two cache lines).
+    #[inline]
+    pub(super) fn prefetch(&self, i: u32) {
+        let at = i as usize * self.stride;
+        prefetch(&self.slots[at]);
+        if let Some(later) = self.slots.get(at + 16) {
+            prefetch(later);
+        }
     }
 
     pub(super) fn push(&mut self, i: u32, n: u32) {
