@@ -7,6 +7,7 @@
 //! whichever queue holds the events.
 
 use crate::math::Real;
+use crate::prefetch::prefetch;
 
 /// Not scheduled.
 const ABSENT: u32 = u32::MAX;
@@ -125,6 +126,12 @@ impl<P: Copy + Default> Calendar<P> {
     /// The earliest event: its id, time and payload.
     pub(super) fn peek(&self) -> Option<(u32, Real, P)> {
         self.heap.first().map(|e| (e.id, e.time, e.payload))
+    }
+
+    /// Asks for `id`'s entry to be fetched.
+    #[inline]
+    pub(super) fn prefetch(&self, id: u32) {
+        prefetch(&self.slots[id as usize]);
     }
 
     /// The entries that come next after the earliest when nothing is scheduled meanwhile:

@@ -119,17 +119,24 @@ impl PeriodicSpheres {
         self.predict(b);
     }
 
-    /// Asks for what processing `id`'s event `next` reads first: its sphere, its list, and
-    /// for a pair the partner's.
+    /// Asks for what processing `id`'s event `next` reads first: its sphere's motion, list
+    /// centre, shell, list and queue entry, and for a pair the partner's.
     #[inline]
     fn prefetch_event(&self, id: u32, next: &Scheduled) {
-        prefetch(&self.motion[id as usize]);
+        let i = id as usize;
+        prefetch(&self.motion[i]);
+        prefetch(&self.centre[i]);
+        prefetch(&self.shell[i]);
         self.lists.prefetch(id);
+        self.queue.prefetch(id);
         if next.kind == Kind::Pair {
             let other = next.other as usize;
             prefetch(&self.counter[other]);
             prefetch(&self.motion[other]);
+            prefetch(&self.centre[other]);
+            prefetch(&self.shell[other]);
             self.lists.prefetch(next.other);
+            self.queue.prefetch(next.other);
         }
     }
 
