@@ -2,8 +2,8 @@
 //! events, shell crossings.
 
 use super::{Kind, Motion, Period, PeriodicSpheres, Scheduled};
-use crate::prefetch::prefetch;
 use crate::math::{Real, Vec3};
+use crate::prefetch::prefetch;
 use crate::world::step::Exchange;
 use crate::world::{ContactEvent, ContactKind, ObjectId, WorldError};
 
