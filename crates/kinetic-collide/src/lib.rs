@@ -101,8 +101,9 @@ pub mod kds {
     pub use kinetic_core::kds::*;
     pub use kinetic_flight::{
         CROSSING_COST, Choice, Cone, ConeSet, ELASTIC_BRUTE_MAX, GRID_SPREAD, GuardGrid,
-        HEAVY_PAIR_FACTOR, LOOSE_SPREAD, OBJECT_COST, PAIR_COST, RESTING_CROSSINGS,
-        RESTING_GRID_MAX, RHO_MAX, SIGMA_MAX, SIZES_ALIKE, barely_moving, brute_force_pays,
-        fatness, for_flights, for_steps, guard_fatness, paper_choice, scale_factor, spread,
+        HEAVY_PAIR_FACTOR, LOOSE_N, LOOSE_N_SPREAD, LOOSE_SPREAD, OBJECT_COST, PAIR_COST,
+        RESTING_CROSSINGS, RESTING_GRID_MAX, RHO_MAX, SIGMA_MAX, SIZES_ALIKE, barely_moving,
+        brute_force_pays, fatness, for_flights, for_steps, guard_fatness, loose_spread,
+        paper_choice, scale_factor, spread,
     };
 }

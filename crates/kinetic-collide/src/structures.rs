@@ -133,7 +133,7 @@ pub fn choose_structure(scene: &Scene) -> StructureName {
     }
     let resting = kinetic_flight::barely_moving(n, crossings);
     let plane = scene.world == WorldKind::Plane;
-    kinetic_flight::for_flights(scene.size_ratio(), resting, plane).into()
+    kinetic_flight::for_flights(scene.size_ratio(), n, resting, plane).into()
 }
 
 /// How many times the objects cross their own size over the horizon, summed: each object's

@@ -2,7 +2,7 @@
 //! scene, follows the documented rule, and gives the brute force's contacts.
 
 use kinetic_collide::kds::{
-    GRID_SPREAD, LOOSE_SPREAD, RESTING_CROSSINGS, RESTING_GRID_MAX, brute_force_pays,
+    GRID_SPREAD, LOOSE_SPREAD, RESTING_CROSSINGS, RESTING_GRID_MAX, brute_force_pays, loose_spread,
 };
 use kinetic_collide::run::{StructureName, choose_structure, run_scene};
 use kinetic_collide::structures::{contacts, crossings, heavy_pairs};
@@ -32,7 +32,9 @@ fn the_default_applies_follows_the_rule_and_matches_the_brute_force() {
             && spread <= GRID_SPREAD
         {
             StructureName::Grid
-        } else if spread <= LOOSE_SPREAD {
+        } else if spread <= LOOSE_SPREAD
+            && (scene.world == WorldKind::Plane || spread <= loose_spread(n))
+        {
             StructureName::LooseGrid
         } else if spread <= GRID_SPREAD && scene.world == WorldKind::Free {
             StructureName::Grid

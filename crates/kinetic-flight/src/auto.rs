@@ -86,7 +86,7 @@ impl Auto {
         if self.choice.is_none() && self.live <= ELASTIC_BRUTE_MAX {
             None
         } else {
-            Some(for_flights(self.spread(), false, self.plane))
+            Some(for_flights(self.spread(), self.live, false, self.plane))
         }
     }
 

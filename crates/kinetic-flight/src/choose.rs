@@ -22,9 +22,19 @@ pub const SIGMA_MAX: Real = 8.0;
 pub const RHO_MAX: Real = 4.0;
 
 /// Sizes (outer radii, largest over smallest) spread by at most this factor: the loose grid,
-/// in [`for_flights`] (measured fastest on balls of sizes 1:250 at 1e3 to 1e4, 1.1x to 2.6x
-/// the grid, and the grid 1.3x to 2.9x faster on sizes 1:1000: the bound is between the two).
+/// in [`for_flights`], for many objects (measured fastest on balls of sizes 1:250 at 3e3 to
+/// 1e4, 1.3x to 2.2x the grid, and the grid 1.9x to 3.4x faster on sizes 1:1000: the bound
+/// is between the two). Fewer objects take the loose grid only within [`loose_spread`].
 pub const LOOSE_SPREAD: Real = 500.0;
+/// Below [`LOOSE_SPREAD`], the loose grid's bound for `n` objects in a free world:
+/// `LOOSE_N_SPREAD (n / LOOSE_N)^0.6`, within `LOOSE_N_SPREAD` and [`LOOSE_SPREAD`]. The
+/// loose grid's time over the grid's grows about as `spread^0.56` and shrinks about as
+/// `n^-0.33` (fitted on balls of sizes 1:100, 1:250 and 1:1000 at 300 to 1e4 objects): at
+/// 1:250 the grid is 1.4x faster at 300 objects and 1.2x at 1,000, the loose grid 1.3x
+/// faster at 3,000, and at 1:100 the loose grid is faster from 300 objects on.
+pub const LOOSE_N_SPREAD: Real = 100.0;
+/// See [`LOOSE_N_SPREAD`].
+pub const LOOSE_N: Real = 300.0;
 /// Sizes spread by at most this factor (and more than [`LOOSE_SPREAD`]): the hierarchical
 /// grid in a free world; beyond it, the sweep, in [`for_flights`] (the grid fastest on sizes
 /// 1:1000 at 1e3 to 1e4, the sweep on sizes 1:10^4: the bound is between the two).
@@ -130,7 +140,9 @@ pub fn spread(radii: impl IntoIterator<Item = Real>) -> Real {
 ///
 /// 1. objects that barely move (`resting`, see [`barely_moving`]) within [`GRID_SPREAD`]:
 ///    the hierarchical grid, the cheapest to build;
-/// 2. within [`LOOSE_SPREAD`]: the loose grid, one certificate per object;
+/// 2. within [`LOOSE_SPREAD`], and in a free world within [`loose_spread`] for `n` objects
+///    (the grid wins at wide spreads until the objects are many): the loose grid, one
+///    certificate per object;
 /// 3. within [`GRID_SPREAD`], in a free world: the hierarchical grid, exact box pairs level
 ///    by level;
 /// 4. a wider spread, or a plane world (`plane`: balls rolling on a plane, whose discs the
@@ -138,16 +150,22 @@ pub fn spread(radii: impl IntoIterator<Item = Real>) -> Real {
 ///    sorted lists do not care about sizes.
 ///
 /// The guards are never picked: on every scene measured, one of the three is faster.
-pub fn for_flights(spread: Real, resting: bool, plane: bool) -> Choice {
+pub fn for_flights(spread: Real, n: usize, resting: bool, plane: bool) -> Choice {
     if resting && spread <= GRID_SPREAD {
         Choice::Grid
-    } else if spread <= LOOSE_SPREAD {
+    } else if spread <= LOOSE_SPREAD && (plane || spread <= loose_spread(n)) {
         Choice::Loose
     } else if spread <= GRID_SPREAD && !plane {
         Choice::Grid
     } else {
         Choice::Sweep
     }
+}
+
+/// The widest spread of sizes for which `n` objects in a free world get the loose grid (see
+/// [`LOOSE_N_SPREAD`]).
+pub fn loose_spread(n: usize) -> Real {
+    (LOOSE_N_SPREAD * (n as Real / LOOSE_N).powf(0.6)).clamp(LOOSE_N_SPREAD, LOOSE_SPREAD)
 }
 
 /// Objects that cross their own size fewer than this many times each, on average over the
@@ -227,14 +245,36 @@ mod tests {
     fn flights_by_spread() {
         assert_eq!(spread([]), 1.0);
         assert_eq!(spread([2.0, 0.0, 0.5]), 4.0);
-        assert_eq!(for_flights(1.0, false, false), Choice::Loose);
-        assert_eq!(for_flights(LOOSE_SPREAD, false, false), Choice::Loose);
-        assert_eq!(for_flights(LOOSE_SPREAD * 1.01, false, false), Choice::Grid);
-        assert_eq!(for_flights(LOOSE_SPREAD * 1.01, false, true), Choice::Sweep);
-        assert_eq!(for_flights(GRID_SPREAD * 1.01, false, false), Choice::Sweep);
-        assert_eq!(for_flights(1.0, true, false), Choice::Grid);
-        assert_eq!(for_flights(1.0, true, true), Choice::Grid);
-        assert_eq!(for_flights(GRID_SPREAD * 1.01, true, false), Choice::Sweep);
+        let many = 100_000;
+        assert_eq!(for_flights(1.0, many, false, false), Choice::Loose);
+        assert_eq!(for_flights(LOOSE_SPREAD, many, false, false), Choice::Loose);
+        assert_eq!(
+            for_flights(LOOSE_SPREAD * 1.01, many, false, false),
+            Choice::Grid
+        );
+        assert_eq!(
+            for_flights(LOOSE_SPREAD * 1.01, many, false, true),
+            Choice::Sweep
+        );
+        assert_eq!(
+            for_flights(GRID_SPREAD * 1.01, many, false, false),
+            Choice::Sweep
+        );
+        assert_eq!(for_flights(1.0, many, true, false), Choice::Grid);
+        assert_eq!(for_flights(1.0, many, true, true), Choice::Grid);
+        assert_eq!(
+            for_flights(GRID_SPREAD * 1.01, many, true, false),
+            Choice::Sweep
+        );
+        // Sizes 1:250: the grid for a few hundred objects, the loose grid for thousands; on
+        // a plane the loose grid either way. Sizes 1:100: the loose grid for any number.
+        assert_eq!(for_flights(250.0, 300, false, false), Choice::Grid);
+        assert_eq!(for_flights(250.0, 1000, false, false), Choice::Grid);
+        assert_eq!(for_flights(250.0, 3000, false, false), Choice::Loose);
+        assert_eq!(for_flights(250.0, 300, false, true), Choice::Loose);
+        assert_eq!(for_flights(100.0, 10, false, false), Choice::Loose);
+        assert_eq!(loose_spread(10), LOOSE_N_SPREAD);
+        assert_eq!(loose_spread(many), LOOSE_SPREAD);
         assert!(barely_moving(1000, 50.0));
         assert!(!barely_moving(1000, 500.0));
         assert!(!barely_moving(1_000_000, 0.0));
