@@ -170,6 +170,17 @@ impl PeriodicSpheres {
             .map(|s| s.2)
     }
 
+    /// Sphere `id`'s motion, its centre now, and its shell crossing as the earliest event so
+    /// far: where a prediction starts.
+    #[inline]
+    fn start_prediction(&self, id: u32) -> (Motion, Vec3, Earliest) {
+        let i = id as usize;
+        let m = self.motion[i];
+        let here = m.at(self.now);
+        let exit = shell_exit(here, m.velocity, self.centre[i], self.shell[i]);
+        (m, here, Earliest::new(self.now, self.now + exit))
+    }
+
     /// Recomputes sphere `id`'s next event from its shell and its listed pairs (each through
     /// its nearest image now) and schedules it.
     ///
@@ -179,11 +190,8 @@ impl PeriodicSpheres {
     /// without waiting on a guess at the previous pair, and only kept pairs cost a root.
     pub(super) fn predict(&mut self, id: u32) {
         let i = id as usize;
-        let m = self.motion[i];
         let now = self.now;
-        let here = m.at(now);
-        let exit = shell_exit(here, m.velocity, self.centre[i], self.shell[i]);
-        let mut best = Earliest::new(now, now + exit);
+        let (m, here, mut best) = self.start_prediction(id);
         if self.skips.is_empty() {
             let mut kept = std::mem::take(&mut self.kept);
             kept.resize(BATCH, Kept::NONE);
@@ -435,11 +443,8 @@ impl PeriodicSpheres {
     /// Checks a prediction against every listed pair taken by [`pair_due`] with no bound.
     fn check_prediction(&self, id: u32, next: &Next) {
         let i = id as usize;
-        let m = self.motion[i];
         let now = self.now;
-        let here = m.at(now);
-        let exit = shell_exit(here, m.velocity, self.centre[i], self.shell[i]);
-        let mut best = Earliest::new(now, now + exit);
+        let (m, here, mut best) = self.start_prediction(id);
         for &k in self.lists.of(id) {
             let mb = &self.motion[k as usize];
             let (d, shift) = self.period.apart(here - mb.at(now));

@@ -43,6 +43,11 @@ fn random_spheres(
     out
 }
 
+/// The sum of squared speeds: twice the kinetic energy, for spheres of equal mass.
+fn energy(gas: &PeriodicSpheres) -> Real {
+    gas.motion.iter().map(|m| m.velocity.length_squared()).sum()
+}
+
 /// Runs `gas` to `t`, validating after every event.
 fn run(gas: &mut PeriodicSpheres, t: Real) -> Vec<ContactEvent> {
     gas.validate().unwrap();
@@ -180,9 +185,6 @@ fn energy_and_momentum_are_kept_and_the_bulk_is_sane() {
         max: Vec3::splat(side),
     };
     let mut gas = PeriodicSpheres::new(cell, &spheres).unwrap();
-    let energy = |g: &PeriodicSpheres| -> Real {
-        g.motion.iter().map(|m| m.velocity.length_squared()).sum()
-    };
     let momentum = |g: &PeriodicSpheres| -> Vec3 { g.motion.iter().map(|m| m.velocity).sum() };
     let (e0, p0) = (energy(&gas), momentum(&gas));
     gas.advance_to(30.0).unwrap();
@@ -246,9 +248,6 @@ fn a_dense_fluid_keeps_its_invariants_and_its_energy() {
         max: Vec3::splat(side),
     };
     let mut gas = PeriodicSpheres::new(cell, &spheres).unwrap();
-    let energy = |g: &PeriodicSpheres| -> Real {
-        g.motion.iter().map(|m| m.velocity.length_squared()).sum()
-    };
     let e0 = energy(&gas);
     for step in 1..=40 {
         gas.advance_to(step as Real * 0.5).unwrap();
