@@ -208,7 +208,10 @@ impl PeriodicSpheres {
     /// Sphere `id` reached its shell: it re-centres where it is and lists again.
     pub(super) fn relist(&mut self, id: u32) {
         let i = id as usize;
-        std::hint::black_box(self.lists.touch(self.lists.of(id)));
+        // The old neighbours' rows lose this sphere: they are asked for together.
+        for &k in self.lists.of(id) {
+            self.lists.prefetch(k);
+        }
         for j in 0..self.lists.of(id).len() {
             let other = self.lists.of(id)[j];
             self.lists.remove(other, id);

@@ -40,15 +40,6 @@ impl Lists {
         &self.slots[at + 1..at + 1 + len]
     }
 
-    /// Reads the length of each of the lists of `ids` in one go, so that their rows are
-    /// fetched together before they are worked on; returns the sum of the lengths.
-    #[inline]
-    pub(super) fn touch(&self, ids: &[u32]) -> u32 {
-        ids.iter()
-            .map(|&i| self.slots[i as usize * self.stride])
-            .fold(0, u32::wrapping_add)
-    }
-
     /// Asks for `i`'s row to be fetched (its first two cache lines).
     #[inline]
     pub(super) fn prefetch(&self, i: u32) {
@@ -198,8 +189,7 @@ impl CentreGrid {
     }
 
     /// Calls `f` on each centre filed in the 27 cells around `c` (with wrap-around). The
-    /// cells are read first, each one's first centre with them, so that they are fetched
-    /// together.
+    /// cells are found first and their centres asked for, so that they are fetched together.
     #[inline]
     pub(super) fn for_each_around(&self, c: [u32; 3], mut f: impl FnMut(&Filed)) {
         let n = self.n;
@@ -216,11 +206,9 @@ impl CentreGrid {
                 }
             }
         }
-        let first: Real = around
-            .iter()
-            .map(|cell| cell.first().map_or(0.0, |f| f.radius))
-            .sum();
-        std::hint::black_box(first);
+        for first in around.iter().filter_map(|cell| cell.first()) {
+            prefetch(first);
+        }
         for cell in around {
             cell.iter().for_each(&mut f);
         }
