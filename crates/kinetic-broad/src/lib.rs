@@ -25,6 +25,7 @@ mod hold;
 mod motions;
 mod pairs;
 mod phase;
+mod stepped;
 
 pub use engine::{BodyState, Engine, Key, PairEvent, Seen, Step};
 pub use hold::{Hold, Slack, fit};

@@ -233,6 +233,33 @@ impl PairBook {
         Ok(())
     }
 
+    /// The pairs the engine has by this book, in no order.
+    pub(crate) fn reported_pairs(&self) -> Vec<(u32, u32)> {
+        self.pairs
+            .iter()
+            .filter(|(_, e)| e.reported)
+            .map(|(k, _)| *k)
+            .collect()
+    }
+
+    /// Takes the engine's pairs `had` (each `(a, b)` with `a < b`) as handed over: those the
+    /// book holds are marked so, to be asked at the next pass; the others go to `gone`, to be
+    /// deleted.
+    pub(crate) fn adopt(&mut self, had: &[(u32, u32)], gone: &mut Vec<(u32, u32)>) {
+        for key in had {
+            match self.pairs.get_mut(key) {
+                Some(e) if !e.reported => {
+                    e.reported = true;
+                    e.plans = (u32::MAX, u32::MAX);
+                    self.reported += 1;
+                }
+                Some(_) => {}
+                None => gone.push(*key),
+            }
+        }
+        self.pending = true;
+    }
+
     /// Whether the engine has pair `(a, b)` by this book.
     pub(crate) fn has(&self, a: u32, b: u32) -> bool {
         self.pairs

@@ -12,6 +12,10 @@ impl BroadPhaseCore {
     pub fn new() -> BroadPhaseCore {
         BroadPhaseCore {
             choice: None,
+            choice_given: false,
+            stepped: None,
+            meter: Default::default(),
+            adopting: None,
             slack: Slack {
                 fraction: 0.05,
                 min: 1e-3,
@@ -41,6 +45,7 @@ impl BroadPhaseCore {
     /// The same broad phase with the structure chosen by the caller.
     pub fn with_structure(mut self, choice: Choice) -> BroadPhaseCore {
         self.choice = Some(choice);
+        self.choice_given = true;
         self
     }
 
@@ -67,14 +72,24 @@ impl BroadPhaseCore {
         self.audit_error.as_deref()
     }
 
-    /// The structure in use: `"grid"`, `"sweep"`, `"guards"`, or `"none"` before the first
-    /// collider.
+    /// The structure in use: `"grid"`, `"loose-grid"`, `"sweep"`, `"guards"`, `"stepped"`
+    /// while the world is stepped, or `"none"` before the first collider.
     pub fn structure_name(&self) -> &'static str {
+        if self.is_stepped() {
+            return "stepped";
+        }
         self.structure.as_ref().map_or("none", |s| s.name())
     }
 
     /// Figures over the whole run.
     pub fn stats(&self) -> BroadPhaseStats {
+        if let Some(st) = &self.stepped {
+            return BroadPhaseStats {
+                pairs: st.reported.len(),
+                candidates: st.reported.len(),
+                ..self.stats
+            };
+        }
         BroadPhaseStats {
             pairs: self.book.reported(),
             candidates: self.book.candidates(),
@@ -99,7 +114,16 @@ impl BroadPhaseCore {
 
     /// Whether the engine has the pair of these two colliders by this broad phase.
     pub fn has_pair(&self, a: Key, b: Key) -> bool {
-        self.knows(a) && self.knows(b) && self.book.has(a.index, b.index)
+        if !(self.knows(a) && self.knows(b)) {
+            return false;
+        }
+        match &self.stepped {
+            Some(st) => st
+                .reported
+                .binary_search(&(a.index.min(b.index), a.index.max(b.index)))
+                .is_ok(),
+            None => self.book.has(a.index, b.index),
+        }
     }
 
     /// Whether collider `c` is held.

@@ -66,32 +66,28 @@ impl BroadPhaseCore {
     /// when the plan is at rest and the engine gives boxes, else by the balls of its holds on
     /// the plan (`resized`: with a new slack).
     pub(super) fn hold(&mut self, engine: &impl Engine, b: Key, rb: &BodyState, resized: bool) {
-        let m = &self.motions[b];
-        if m.at_rest() {
-            let (slack, dt) = (m.slack, self.clock.dt);
-            let boxes: Option<Vec<(u32, Hold, Aabb)>> = m
-                .colliders
-                .iter()
-                .filter_map(|&i| self.proxies[i as usize].map(|p| (i, p)))
-                .map(|(i, p)| {
-                    Self::fat_box_for(engine, p.key, rb.velocity, dt, slack).map(|f| (i, p.hold, f))
-                })
-                .collect();
-            if let Some(boxes) = boxes {
-                self.motions.get_mut(b).expect("a motion").fat = true;
-                self.stats.boxed += 1;
-                self.stats.replans += 1;
-                self.step.replans += 1;
-                // A box covers its collider's whole step; only the others' lag grows it.
-                let grow = self.lag_growth();
-                for (i, hold, fat) in boxes {
-                    self.take_out(i);
-                    self.proxies[i as usize].as_mut().expect("held").fat = Some(fat);
-                    self.put_in(i, hold, grow);
-                    self.book.apply(&mut self.changes, self.clock.kds);
-                }
-                return;
+        if self.is_stepped() {
+            // A stepped world keeps the plans only to price a kinetic step: no proxy to move.
+            self.stats.replans += 1;
+            self.step.replans += 1;
+            return;
+        }
+        if self.motions[b].at_rest()
+            && let Some(boxes) = self.fat_boxes(engine, b, rb.velocity)
+        {
+            self.motions.get_mut(b).expect("a motion").fat = true;
+            self.stats.boxed += 1;
+            self.stats.replans += 1;
+            self.step.replans += 1;
+            // A box covers its collider's whole step; only the others' lag grows it.
+            let grow = self.lag_growth();
+            for (i, hold, fat) in boxes {
+                self.take_out(i);
+                self.proxies[i as usize].as_mut().expect("held").fat = Some(fat);
+                self.put_in(i, hold, grow);
+                self.book.apply(&mut self.changes, self.clock.kds);
             }
+            return;
         }
         let m = self.motions.get_mut(b).expect("a motion");
         let unboxed = std::mem::take(&mut m.fat);
@@ -103,6 +99,31 @@ impl BroadPhaseCore {
             }
         }
         self.replan(b, resized || unboxed);
+    }
+
+    /// Fresh fat boxes for each collider of body `b`, moving at `v`, with their holds; `None`
+    /// if the engine gives no boxes.
+    fn fat_boxes(&self, engine: &impl Engine, b: Key, v: Vec3) -> Option<Vec<(u32, Hold, Aabb)>> {
+        let m = &self.motions[b];
+        let (slack, dt) = (m.slack, self.clock.dt);
+        m.colliders
+            .iter()
+            .filter_map(|&i| self.proxies[i as usize].map(|p| (i, p)))
+            .map(|(i, p)| Self::fat_box_for(engine, p.key, v, dt, slack).map(|f| (i, p.hold, f)))
+            .collect()
+    }
+
+    /// Gives body `b`, at rest, fat boxes where the engine gives them, with no structure to
+    /// tell (a stepped world going back to kinetic builds its structure next).
+    pub(super) fn box_in(&mut self, engine: &impl Engine, b: Key) {
+        let Some(rb) = engine.body(b) else { return };
+        let Some(boxes) = self.fat_boxes(engine, b, rb.velocity) else {
+            return;
+        };
+        self.motions.get_mut(b).expect("a motion").fat = true;
+        for (i, _, fat) in boxes {
+            self.proxies[i as usize].as_mut().expect("held").fat = Some(fat);
+        }
     }
 
     /// The fat box of collider `i`, held by `hold`, when it joins a body held by fat boxes

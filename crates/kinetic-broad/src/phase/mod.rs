@@ -8,6 +8,7 @@
 
 mod api;
 mod fat;
+mod mode;
 mod plans;
 mod proxies;
 mod stats;
@@ -111,6 +112,13 @@ struct Clock {
 /// colliders and bodies and calls [`BroadPhaseCore::update`].
 pub struct BroadPhaseCore {
     choice: Option<Choice>,
+    /// Whether the caller chose the structure (it then stays kinetic).
+    choice_given: bool,
+    /// The stepped mode's state while the world is stepped ([`mode`]).
+    stepped: Option<mode::Stepped>,
+    meter: mode::Meter,
+    /// After a switch back to kinetic, the pairs the engine had, for the book to adopt.
+    adopting: Option<Vec<(u32, u32)>>,
     slack: Slack,
     structure: Option<Structure>,
     bodies: Vec<Option<Body>>,

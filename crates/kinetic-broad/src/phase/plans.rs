@@ -170,8 +170,9 @@ impl BroadPhaseCore {
                 body.plan = plan;
                 self.plans[i as usize] = self.plans[i as usize].wrapping_add(1);
                 self.book.touch();
-                let s = self.structure.as_mut().expect("a structure");
-                s.replan(i, &self.bodies, self.clock.kds, &mut self.changes);
+                if let Some(s) = self.structure.as_mut() {
+                    s.replan(i, &self.bodies, self.clock.kds, &mut self.changes);
+                }
             } else {
                 self.take_out(i);
                 let own = self.own_reach(&proxy.hold);

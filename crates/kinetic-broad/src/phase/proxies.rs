@@ -1,7 +1,7 @@
 //! Colliders as proxies: put into the structure, taken out, and the structure picked for
 //! the first ones.
 
-use super::{BroadPhaseCore, Proxy};
+use super::{BroadPhaseCore, Proxy, Structure};
 use super::{REGION_MARGIN, REGION_STEPS};
 use crate::{Engine, Hold, Key, Seen, Step};
 use kinetic_core::{Body, FlightPlan, Real, Shape, Vec3};
@@ -61,6 +61,9 @@ impl BroadPhaseCore {
     /// silently, or (`silent` false) drop out as usual to be deleted once out for a window.
     pub(super) fn detach(&mut self, i: u32, silent: bool) {
         self.take_out(i);
+        if let Some(st) = self.stepped.as_mut() {
+            st.forget(i, silent);
+        }
         let mut changes = std::mem::take(&mut self.changes);
         if silent {
             self.book.forget(i, &mut changes);
@@ -105,8 +108,9 @@ impl BroadPhaseCore {
         self.bodies[i as usize] = Some(Body { shape, plan });
         self.plans[i as usize] = self.plans[i as usize].wrapping_add(1);
         self.book.touch();
-        let s = self.structure.as_mut().expect("a structure");
-        s.insert(i, &self.bodies, self.clock.kds, &mut self.changes);
+        if let Some(s) = self.structure.as_mut() {
+            s.insert(i, &self.bodies, self.clock.kds, &mut self.changes);
+        }
         self.proxies[i as usize].as_mut().expect("held").grown_until =
             (grow > 0.0).then_some(self.clock.kds);
         if grow > 0.0 {
@@ -147,6 +151,17 @@ impl BroadPhaseCore {
                 Seen::Missing | Seen::Disabled => None,
             })
             .collect();
+        if self.choice.is_none() {
+            self.choice = Some(pick_structure(&holds));
+        }
+        if self.structure.is_none() && !self.is_stepped() {
+            if self.may_step() {
+                // A world starts stepped: its first steps show whether plans hold.
+                self.stepped = Some(Default::default());
+            } else {
+                self.structure = Some(new_structure(self.structure_choice(), step.dt));
+            }
+        }
         // Plans first: a body seen for the first time gets a plan fitted to its state now; a
         // body already moving keeps its plan for the collider it gains.
         for &(h, hold) in &holds {
@@ -162,8 +177,9 @@ impl BroadPhaseCore {
                     self.refit(body, engine, step, true);
                     // A body that starts at rest is held by fat boxes where the engine gives
                     // them.
+                    let stepped = self.is_stepped();
                     let m = self.motions.get_mut(body).expect("a motion");
-                    if m.at_rest() && engine.bounds(h).is_some() {
+                    if m.at_rest() && !stepped && engine.bounds(h).is_some() {
                         m.fat = true;
                     }
                 } else {
@@ -181,26 +197,6 @@ impl BroadPhaseCore {
             self.movers[i as usize] = Some(proxy.mover());
             self.proxies[i as usize] = Some(proxy);
         }
-        if self.structure.is_none() {
-            let choice = self.choice.unwrap_or_else(|| pick_structure(&holds));
-            self.choice = Some(choice);
-            self.structure = Some(match choice {
-                Choice::Sweep => Box::new(Sweep::new()),
-                Choice::Guards => Box::new(Guards::new(1.0)),
-                // Both grids give a fast body's region at least a step of flight: a shot
-                // then costs an event a step, not one per cell or per two widths it flies.
-                Choice::Grid => Box::new(Grid::new().with_least_flight(step.dt)),
-                Choice::Loose => {
-                    let dt = step.dt;
-                    Box::new(
-                        LooseGrid::new()
-                            .with_margin(REGION_MARGIN)
-                            .with_horizon(REGION_STEPS * dt)
-                            .with_least_flight(dt),
-                    )
-                }
-            });
-        }
         let grow = self.lag_growth();
         if grow == 0.0 {
             // Level with the structure's clock: all at once (an empty structure builds in bulk).
@@ -215,8 +211,9 @@ impl BroadPhaseCore {
                 self.plans[i] = self.plans[i].wrapping_add(1);
                 self.book.touch();
             }
-            let s = self.structure.as_mut().expect("a structure");
-            s.insert_many(&ids, &self.bodies, self.clock.kds, &mut self.changes);
+            if let Some(s) = self.structure.as_mut() {
+                s.insert_many(&ids, &self.bodies, self.clock.kds, &mut self.changes);
+            }
             self.stats.inserts += ids.len() as u64;
             self.step.inserts += ids.len() as u64;
             self.book.apply(&mut self.changes, self.clock.kds);
@@ -228,6 +225,48 @@ impl BroadPhaseCore {
             self.put_in(i, hold, g);
             self.book.apply(&mut self.changes, self.clock.kds);
         }
+    }
+}
+
+impl BroadPhaseCore {
+    /// A fresh structure holding every proxy, at the structure's clock, level with the
+    /// positions (a stepped world going back to kinetic).
+    pub(super) fn build_structure(&mut self) {
+        let choice = self.structure_choice();
+        let mut s = new_structure(choice, self.clock.dt);
+        let mut ids = Vec::new();
+        for i in 0..self.proxies.len() {
+            let Some(p) = self.proxies[i] else { continue };
+            self.bodies[i] = Some(Body {
+                shape: self.shape(i as u32, &p.hold, choice),
+                plan: self.plan_of(i as u32, &p.hold),
+            });
+            self.plans[i] = self.plans[i].wrapping_add(1);
+            ids.push(i as u32);
+        }
+        s.insert_many(&ids, &self.bodies, self.clock.kds, &mut self.changes);
+        self.structure = Some(s);
+        self.stats.inserts += ids.len() as u64;
+        self.step.inserts += ids.len() as u64;
+        self.book.touch();
+        self.book.apply(&mut self.changes, self.clock.kds);
+    }
+}
+
+/// A fresh, empty structure of kind `choice` for an engine stepping by `dt`.
+fn new_structure(choice: Choice, dt: Real) -> Structure {
+    match choice {
+        Choice::Sweep => Box::new(Sweep::new()),
+        Choice::Guards => Box::new(Guards::new(1.0)),
+        // Both grids give a fast body's region at least a step of flight: a shot then costs
+        // an event a step, not one per cell or per two widths it flies.
+        Choice::Grid => Box::new(Grid::new().with_least_flight(dt)),
+        Choice::Loose => Box::new(
+            LooseGrid::new()
+                .with_margin(REGION_MARGIN)
+                .with_horizon(REGION_STEPS * dt)
+                .with_least_flight(dt),
+        ),
     }
 }
 

@@ -28,6 +28,8 @@ pub struct BroadPhaseStats {
     /// Times a body at rest was held by fresh fat boxes (it came to rest, or left its boxes
     /// and came to rest again).
     pub boxed: u64,
+    /// Switches between kinetic and stepped ([`crate::BroadPhaseCore`]'s mode).
+    pub switches: u64,
 }
 
 /// Figures over the last physics step.

@@ -97,6 +97,7 @@ impl Toy {
         );
         core.update(STEP, self, &modified, &removed, &mut events);
         self.apply(&events);
+        events.clear();
         self.check(core);
         let mut moved = Vec::new();
         for (body, s) in &mut self.bodies {
@@ -217,7 +218,10 @@ fn resting_bodies_cost_nothing_and_a_disabled_collider_drops_out() {
 fn bodies_at_rest_are_held_by_fat_boxes_until_they_move() {
     let mut toy = Toy::new(&[0.0, 3.0]);
     toy.boxes = true;
-    let mut core = BroadPhaseCore::new().with_audit();
+    // Kinetic throughout: the structure is the caller's.
+    let mut core = BroadPhaseCore::new()
+        .with_structure(Choice::Loose)
+        .with_audit();
     for _ in 0..120 {
         toy.step(&mut core);
     }
@@ -257,4 +261,95 @@ fn bodies_at_rest_are_held_by_fat_boxes_until_they_move() {
             .is_none()
     );
     assert_eq!(core.audit_error(), None);
+}
+
+/// A small deterministic generator in `-1..1`.
+fn jitter(s: &mut u64) -> Real {
+    *s = s
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    (*s >> 11) as Real / (1u64 << 52) as Real - 1.0
+}
+
+/// Every two balls whose surfaces (margins included) touch are a pair the toy has.
+fn touching_pairs_are_held(toy: &Toy) {
+    for (a, pa, _) in &toy.colliders {
+        for (b, pb, _) in &toy.colliders {
+            let (Part::Ball { body: x, .. }, Part::Ball { body: y, .. }) = (pa, pb) else {
+                continue;
+            };
+            if a.index >= b.index {
+                continue;
+            }
+            let (x, y) = (toy.body(*x).expect("a body"), toy.body(*y).expect("a body"));
+            if (x.centre - y.centre).length() <= 1.02 {
+                assert!(toy.pairs.contains(&(*a, *b)), "{a:?} and {b:?} touch");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_restless_world_steps_and_a_calm_one_goes_back_to_kinetic() {
+    // 100 balls on the ground, a little more than a diameter apart.
+    let xs: Vec<Real> = (0..100).map(|k| k as Real * 1.05).collect();
+    let mut toy = Toy::new(&xs);
+    toy.boxes = true;
+    let mut core = BroadPhaseCore::new().with_audit();
+    let mut s = 5;
+    // Jostled: a fresh random push every step, so that no plan holds.
+    for _ in 0..90 {
+        for (_, b) in &mut toy.bodies {
+            b.velocity.x = 2.0 * jitter(&mut s);
+            b.velocity.z = 2.0 * jitter(&mut s);
+        }
+        toy.step(&mut core);
+        touching_pairs_are_held(&toy);
+    }
+    assert_eq!(core.structure_name(), "stepped", "{:?}", core.stats());
+    // Calm: every ball stops where it is; the world goes back to its kinetic structure, the
+    // pairs the engine has carried over.
+    for (_, b) in &mut toy.bodies {
+        b.velocity = Vec3::ZERO;
+    }
+    for _ in 0..90 {
+        toy.step(&mut core);
+        touching_pairs_are_held(&toy);
+    }
+    assert_eq!(core.structure_name(), "loose-grid", "{:?}", core.stats());
+    assert!(core.stats().switches >= 1);
+    // Jostled again: stepped again.
+    for _ in 0..60 {
+        for (_, b) in &mut toy.bodies {
+            b.velocity.x = 2.0 * jitter(&mut s);
+        }
+        toy.step(&mut core);
+        touching_pairs_are_held(&toy);
+    }
+    assert_eq!(core.structure_name(), "stepped", "{:?}", core.stats());
+    assert_eq!(core.audit_error(), None);
+}
+
+#[test]
+fn a_stepped_world_hands_over_what_a_kinetic_one_does_on_a_calm_world() {
+    // The same falling, resting balls, stepped or not: the same touching pairs at the end.
+    let xs: Vec<Real> = (0..20).map(|k| k as Real * 0.9).collect();
+    let (mut a, mut b) = (Toy::new(&xs), Toy::new(&xs));
+    a.boxes = true;
+    b.boxes = true;
+    let mut own = BroadPhaseCore::new().with_audit();
+    let mut kinetic = BroadPhaseCore::new().with_structure(Choice::Loose);
+    for _ in 0..120 {
+        a.step(&mut own);
+        b.step(&mut kinetic);
+        touching_pairs_are_held(&a);
+        touching_pairs_are_held(&b);
+    }
+    let touching = |t: &Toy| -> Vec<(Key, Key)> {
+        let mut p: Vec<_> = t.pairs.clone();
+        p.sort_unstable();
+        p
+    };
+    assert_eq!(touching(&a), touching(&b));
+    assert_eq!(own.audit_error(), None);
 }

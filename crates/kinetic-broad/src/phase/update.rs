@@ -38,6 +38,9 @@ impl BroadPhaseCore {
         }
         let update = self.clock.updates;
         self.lag_reach = None;
+        if !starts_step {
+            self.switch_if_due(engine);
+        }
 
         for &h in removed_colliders {
             self.remove_collider(h);
@@ -155,6 +158,14 @@ impl BroadPhaseCore {
                 seen_moving += 1;
             }
         }
+        if let Some(st) = self.stepped.as_mut() {
+            for &b in &moved {
+                for &i in self.motions.get(b).map_or(&[][..], |m| &m.colliders) {
+                    st.moved(i);
+                }
+            }
+        }
+        let changed = !new.is_empty() || !removed_colliders.is_empty();
         self.install(&new, engine, step, update);
 
         // Unless every moving body moved in this update, some went to sleep or stopped.
@@ -203,8 +214,20 @@ impl BroadPhaseCore {
             }
         }
 
+        if self.is_stepped() {
+            if !starts_step || changed {
+                self.step_pairs(engine, events);
+            }
+            self.clock.kds = self.clock.pos;
+            if !starts_step && !self.clock.in_step {
+                self.weigh();
+            }
+            return;
+        }
+
         // Look ahead over the coming step.
         self.advance(self.clock.pos + self.clock.dt);
+        self.adopt(events);
 
         // The start of a step with no change since the last call: nothing new to hand over.
         let window = (self.clock.pos, self.clock.kds);
@@ -225,23 +248,17 @@ impl BroadPhaseCore {
             );
             self.emitted = window;
         }
-        for o in self.out.drain(..) {
-            let (a, b, add) = match o {
-                PairOut::Add(a, b) => (a, b, true),
-                PairOut::Delete(a, b) => (a, b, false),
-            };
-            let (Some(pa), Some(pb)) = (self.proxies[a as usize], self.proxies[b as usize]) else {
-                continue;
-            };
-            if add {
-                self.stats.added += 1;
-                self.step.added += 1;
-                events.push(PairEvent::Add(pa.key, pb.key));
-            } else {
-                self.stats.deleted += 1;
-                self.step.deleted += 1;
-                events.push(PairEvent::Delete(pa.key, pb.key));
+        let out = std::mem::take(&mut self.out);
+        for &o in &out {
+            match o {
+                PairOut::Add(a, b) => self.out_event(a, b, true, events),
+                PairOut::Delete(a, b) => self.out_event(a, b, false, events),
             }
+        }
+        self.out = out;
+        self.out.clear();
+        if !starts_step && !self.clock.in_step {
+            self.weigh();
         }
     }
 

@@ -2,24 +2,29 @@
 
 use super::{BroadPhaseCore, Clock, Proxy};
 use crate::pairs::proxies_meet;
-use crate::{Engine, Key, Seen};
-use kinetic_core::Body;
+use crate::{Engine, Hold, Key, Seen};
+use kinetic_core::{Body, Vec3};
 
 impl BroadPhaseCore {
-    /// Recomputes the invariants from scratch, between calls: the structure's own, the pair
-    /// book's, every enabled collider of `colliders` (all the engine has) held, every moving
-    /// body within its slack of its plan.
+    /// Recomputes the invariants from scratch, between calls: the structure's own and the
+    /// pair book's (kinetic), or every pair of colliders whose boxes overlap handed over
+    /// (stepped); every enabled collider of `colliders` (all the engine has) held, every
+    /// moving body within its slack of its plan.
     pub fn validate(
         &self,
         engine: &impl Engine,
         colliders: impl IntoIterator<Item = Key>,
     ) -> Result<(), String> {
-        if let Some(s) = &self.structure {
-            s.validate(&self.bodies, self.clock.kds)?;
+        if let Some(st) = &self.stepped {
+            self.check_stepped(engine, &st.reported)?;
+        } else {
+            if let Some(s) = &self.structure {
+                s.validate(&self.bodies, self.clock.kds)?;
+            }
+            self.book
+                .audit(true, meet(&self.bodies, self.clock))
+                .map_err(|e| format!("{e}; window {} to {}", self.clock.pos, self.clock.kds))?;
         }
-        self.book
-            .audit(true, meet(&self.bodies, self.clock))
-            .map_err(|e| format!("{e}; window {} to {}", self.clock.pos, self.clock.kds))?;
         for h in colliders {
             if matches!(engine.collider(h, self.slack), Seen::Held(_)) && !self.knows(h) {
                 return Err(format!("collider {h:?} is not held"));
@@ -46,6 +51,41 @@ impl BroadPhaseCore {
                     "body {h:?} is {off} from its plan, slack {}",
                     m.slack_now()
                 ));
+            }
+        }
+        Ok(())
+    }
+}
+
+impl BroadPhaseCore {
+    /// In a stepped world: the pairs handed over are sorted and distinct, and every two held
+    /// colliders whose boxes now overlap (the engine's boxes, or a fixed collider's own) are
+    /// among them.
+    fn check_stepped(&self, engine: &impl Engine, reported: &[(u32, u32)]) -> Result<(), String> {
+        if !reported.windows(2).all(|w| w[0] < w[1]) {
+            return Err("the stepped pairs are not sorted and distinct".into());
+        }
+        let boxes: Vec<(u32, (Vec3, Vec3))> = self
+            .proxies
+            .iter()
+            .enumerate()
+            .filter_map(|(i, p)| {
+                let p = p.as_ref()?;
+                let b = match p.hold {
+                    Hold::Fixed { min, max } => (min, max),
+                    Hold::Moving { .. } => engine.bounds(p.key)?,
+                };
+                Some((i as u32, b))
+            })
+            .collect();
+        for (k, (a, x)) in boxes.iter().enumerate() {
+            for (b, y) in &boxes[k + 1..] {
+                let meet = x.0.cmple(y.1).all() && y.0.cmple(x.1).all();
+                if meet && reported.binary_search(&(*a.min(b), *a.max(b))).is_err() {
+                    return Err(format!(
+                        "colliders {a} and {b}: boxes overlap, the pair is not handed over"
+                    ));
+                }
             }
         }
         Ok(())

@@ -1,0 +1,540 @@
+//! The stepped grid: the pairs of a set of boxes whose boxes overlap, found from scratch.
+//!
+//! Boxes are rounded outwards to single precision. Cells are as wide as the widest *small*
+//! box (at most [`SMALL`] times the median box), so two small boxes that overlap have their
+//! centres in the same cell or in neighbouring ones. Each small box is filed once, in the
+//! cell of its centre; the cells are hashed into a table about as long as the boxes, and the
+//! boxes sorted by table slot with a counting sort, each with a copy of its box, so that a
+//! slot's boxes lie together in memory. A slot's boxes are tested against each other and
+//! against those of the 13 neighbouring cells that come after it (each pair of cells once).
+//! A wider box looks up the cells its overlapping small boxes can have their centres in, and
+//! one too wide for [`WIDE_CELLS`] cells (a ground, a wall) is tested against every box; the
+//! wide ones are tested against each other. Cells that hash alike cost only tests: pairs
+//! found twice are deduplicated. Nothing is allocated once the buffers have grown.
+
+use kinetic_core::{Real, Vec3};
+
+/// A box at most this many times the median box's widest side is small.
+const SMALL: f32 = 2.0;
+/// A wide box looks up at most this many cells; a wider one is tested against every box.
+const WIDE_CELLS: i64 = 4096;
+/// Wide boxes are tested among themselves in a grid of their own above this many.
+const INNER_FROM: usize = 32;
+/// The median is taken again every this many calls.
+const MEDIAN_EVERY: u32 = 16;
+/// The 13 neighbouring cells after a cell, in the order of `(x, y, z)`.
+const FORWARD: [[i64; 3]; 13] = [
+    [0, 0, 1],
+    [0, 1, -1],
+    [0, 1, 0],
+    [0, 1, 1],
+    [1, -1, -1],
+    [1, -1, 0],
+    [1, -1, 1],
+    [1, 0, -1],
+    [1, 0, 0],
+    [1, 0, 1],
+    [1, 1, -1],
+    [1, 1, 0],
+    [1, 1, 1],
+];
+
+/// An axis-aligned box `(min, max)`.
+pub(crate) type Aabb = (Vec3, Vec3);
+
+/// A box rounded outwards to single precision: `[min x, y, z, max x, y, z]`.
+type Small = [f32; 6];
+
+/// The grid's reused buffers.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct SteppedGrid {
+    /// The widest side of a small box, and the inverse of a cell's side (0: none yet),
+    /// a cell a little wider than the widest small box.
+    widest: f32,
+    inv: f64,
+    /// The median box's widest side, and the calls since it was taken.
+    median: f32,
+    calls: u32,
+    /// The grid for the wide boxes among themselves, when there are many.
+    inner: Option<Box<SteppedGrid>>,
+    /// The table's length less one (a power of two less one), when the cells are hashed.
+    mask: u32,
+    /// When the cells are not hashed: the least cell and the grid's size in cells (the
+    /// table holds every cell, `z` fastest, then `y`, then `x`).
+    dense: Option<([i64; 3], [i64; 3])>,
+    /// Per slot, where its boxes start in `sorted` (and one past the last slot).
+    starts: Vec<u32>,
+    /// The small boxes' slots, then the small boxes (and their places) by slot.
+    slots: Vec<(u32, u32)>,
+    sorted: Vec<(Small, u32)>,
+    /// This call's wide boxes.
+    wide: Vec<u32>,
+    /// This call's boxes and their ids.
+    boxes: Vec<Small>,
+    ids: Vec<u32>,
+    /// Scratch for the median.
+    widths: Vec<f32>,
+}
+
+/// `x` in single precision, moved out by more than the rounding (`up`: up, else down).
+fn round(x: Real, up: bool) -> f32 {
+    let f = x as f32;
+    let d = f.abs() * f32::EPSILON + f32::MIN_POSITIVE;
+    if up { f + d } else { f - d }
+}
+
+/// Box `b` rounded outwards.
+fn small(b: &Aabb) -> Small {
+    [
+        round(b.0.x, false),
+        round(b.0.y, false),
+        round(b.0.z, false),
+        round(b.1.x, true),
+        round(b.1.y, true),
+        round(b.1.z, true),
+    ]
+}
+
+/// Box `b`'s widest side (NaN for a box with a NaN side).
+fn width(b: &Small) -> f32 {
+    let w = [b[3] - b[0], b[4] - b[1], b[5] - b[2]];
+    if w.iter().any(|w| w.is_nan()) {
+        return f32::NAN;
+    }
+    w[0].max(w[1]).max(w[2])
+}
+
+/// Whether two boxes overlap (touching counts).
+fn overlap(a: &Small, b: &Small) -> bool {
+    (a[0] <= b[3])
+        & (a[1] <= b[4])
+        & (a[2] <= b[5])
+        & (b[0] <= a[3])
+        & (b[1] <= a[4])
+        & (b[2] <= a[5])
+}
+
+/// `floor(x)` as an integer, saturating (no call into the C library's `floor`).
+fn floor(x: f64) -> i64 {
+    let t = x as i64;
+    t - i64::from((t as f64) > x)
+}
+
+impl SteppedGrid {
+    /// The cell holding point `p`.
+    fn cell_of(&self, p: [f64; 3]) -> [i64; 3] {
+        p.map(|x| floor(x * self.inv))
+    }
+
+    /// The cell of box `b`'s centre.
+    fn centre_cell(&self, b: &Small) -> [i64; 3] {
+        self.cell_of(std::array::from_fn(|k| {
+            (b[k] as f64 + b[k + 3] as f64) / 2.0
+        }))
+    }
+
+    /// The table slot of cell `c` (in a dense table, a cell outside the grid gets a slot
+    /// past the last, whose run is empty).
+    fn slot(&self, c: [i64; 3]) -> u32 {
+        if let Some((lo, n)) = self.dense {
+            let d: [i64; 3] = std::array::from_fn(|k| c[k] - lo[k]);
+            if (0..3).any(|k| d[k] < 0 || d[k] >= n[k]) {
+                return self.mask + 1;
+            }
+            return ((d[0] * n[1] + d[1]) * n[2] + d[2]) as u32;
+        }
+        let h = (c[0] as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+            ^ (c[1] as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F)
+            ^ (c[2] as u64).wrapping_mul(0x1656_67B1_9E37_79F9);
+        ((h >> 32) as u32) & self.mask
+    }
+
+    /// The boxes filed in slots `s..t`, for slots past the last none.
+    fn runs(&self, s: u32, t: u32) -> &[(Small, u32)] {
+        let last = self.mask as usize + 1;
+        let (s, t) = ((s as usize).min(last), (t as usize).min(last));
+        &self.sorted[self.starts[s] as usize..self.starts[t.max(s)] as usize]
+    }
+
+    /// The boxes filed in slot `s`.
+    fn run(&self, s: u32) -> &[(Small, u32)] {
+        self.runs(s, s + 1)
+    }
+
+    /// Whether the small boxes' cells make a table no longer than about 4 slots a box: the
+    /// grid's least cell and size in cells, if so.
+    fn dense_grid(&self) -> Option<([i64; 3], [i64; 3])> {
+        let mut lo = [i64::MAX; 3];
+        let mut hi = [i64::MIN; 3];
+        for b in &self.boxes {
+            if width(b) <= self.widest {
+                let c = self.centre_cell(b);
+                for k in 0..3 {
+                    lo[k] = lo[k].min(c[k]);
+                    hi[k] = hi[k].max(c[k]);
+                }
+            }
+        }
+        let n: [i64; 3] = std::array::from_fn(|k| hi[k].saturating_sub(lo[k]).saturating_add(1));
+        let cells = n.iter().try_fold(1i64, |p, &x| p.checked_mul(x.max(1)))?;
+        (lo[0] <= hi[0] && cells <= 4 * self.boxes.len() as i64 + 64).then_some((lo, n))
+    }
+
+    /// Puts the pairs `(a, b)`, `a < b`, of `items` (`(id, box)`, ids distinct) whose boxes
+    /// overlap into `out`, sorted; what `out` held is cleared.
+    pub(crate) fn pairs(
+        &mut self,
+        items: impl IntoIterator<Item = (u32, Aabb)>,
+        out: &mut Vec<(u32, u32)>,
+    ) {
+        out.clear();
+        self.boxes.clear();
+        self.ids.clear();
+        for (id, b) in items {
+            self.ids.push(id);
+            self.boxes.push(small(&b));
+        }
+        self.find(out);
+    }
+
+    /// The pairs of this call's boxes, into `out` (empty).
+    fn find(&mut self, out: &mut Vec<(u32, u32)>) {
+        if self.boxes.len() < 2 {
+            return;
+        }
+        self.choose_cell();
+        // Small boxes and their slots; the others are wide (a NaN box too: it meets none).
+        self.wide.clear();
+        self.slots.clear();
+        let limit = self.widest;
+        self.dense = self.dense_grid();
+        let len = match self.dense {
+            Some((_, n)) => (n[0] * n[1] * n[2]) as usize,
+            None => self.boxes.len().next_power_of_two(),
+        };
+        self.mask = len as u32 - 1;
+        for (i, b) in self.boxes.iter().enumerate() {
+            if width(b) <= limit {
+                self.slots.push((self.slot(self.centre_cell(b)), i as u32));
+            } else {
+                self.wide.push(i as u32);
+            }
+        }
+        // Counting sort by slot.
+        self.starts.clear();
+        self.starts.resize(len + 1, 0);
+        for &(s, _) in &self.slots {
+            self.starts[s as usize + 1] += 1;
+        }
+        for s in 0..len {
+            self.starts[s + 1] += self.starts[s];
+        }
+        self.sorted.clear();
+        self.sorted.resize(self.slots.len(), ([0.0; 6], 0));
+        for &(s, i) in &self.slots {
+            let at = &mut self.starts[s as usize];
+            self.sorted[*at as usize] = (self.boxes[i as usize], i);
+            *at += 1;
+        }
+        // `starts[s]` is where slot `s + 1` starts: shift back.
+        self.starts.copy_within(0..len, 1);
+        self.starts[0] = 0;
+        // Small against small: within a cell, and with the cells after it.
+        let mut k = 0;
+        while k < self.sorted.len() {
+            let (a, i) = self.sorted[k];
+            let c = self.centre_cell(&a);
+            let s = self.slot(c);
+            let run = self.run(s);
+            // The boxes of this slot after this one.
+            let at = k - self.starts[s as usize] as usize;
+            for (b, j) in &run[at + 1..] {
+                if overlap(&a, b) && i != *j {
+                    out.push(ordered(self.ids[i as usize], self.ids[*j as usize]));
+                }
+            }
+            match self.dense {
+                // In a dense table the 13 cells after this one lie in 5 runs of slots: the
+                // next cell, then three rows of three (slots past a row's end only add tests).
+                Some((_, n)) => {
+                    let s = s as i64;
+                    let (row, slab) = (n[2], n[1] * n[2]);
+                    let from = [
+                        s + 1,
+                        s + row - 1,
+                        s + slab - row - 1,
+                        s + slab - 1,
+                        s + slab + row - 1,
+                    ];
+                    for (r, f) in from.into_iter().enumerate() {
+                        let t = if r == 0 { f + 1 } else { f + 3 };
+                        let (f, t) = (f.max(0) as u32, t.max(0) as u32);
+                        for (b, j) in self.runs(f, t) {
+                            if overlap(&a, b) && i != *j {
+                                out.push(ordered(self.ids[i as usize], self.ids[*j as usize]));
+                            }
+                        }
+                    }
+                }
+                None => {
+                    for d in FORWARD {
+                        let t = self.slot([c[0] + d[0], c[1] + d[1], c[2] + d[2]]);
+                        for (b, j) in self.run(t) {
+                            if overlap(&a, b) && i != *j {
+                                out.push(ordered(self.ids[i as usize], self.ids[*j as usize]));
+                            }
+                        }
+                    }
+                }
+            }
+            k += 1;
+        }
+        // Wide boxes: against the small boxes whose centres can lie near, or against all.
+        let half = 0.5 / self.inv;
+        for (n, &w) in self.wide.iter().enumerate() {
+            let a = self.boxes[w as usize];
+            let lo = self.cell_of(std::array::from_fn(|k| a[k] as f64 - half));
+            let hi = self.cell_of(std::array::from_fn(|k| a[k + 3] as f64 + half));
+            let cells = (0..3)
+                .map(|k| hi[k].saturating_sub(lo[k]).saturating_add(1).max(0))
+                .fold(1i64, |p, x| p.saturating_mul(x));
+            if cells <= WIDE_CELLS {
+                for x in lo[0]..=hi[0] {
+                    for y in lo[1]..=hi[1] {
+                        for z in lo[2]..=hi[2] {
+                            for (b, j) in self.run(self.slot([x, y, z])) {
+                                if overlap(&a, b) {
+                                    out.push(ordered(self.ids[w as usize], self.ids[*j as usize]));
+                                }
+                            }
+                        }
+                    }
+                }
+            } else {
+                for (b, j) in &self.sorted {
+                    if overlap(&a, b) {
+                        out.push(ordered(self.ids[w as usize], self.ids[*j as usize]));
+                    }
+                }
+            }
+            if self.wide.len() <= INNER_FROM {
+                for &v in &self.wide[n + 1..] {
+                    if overlap(&a, &self.boxes[v as usize]) {
+                        out.push(ordered(self.ids[w as usize], self.ids[v as usize]));
+                    }
+                }
+            }
+        }
+        // Many wide boxes (a spread of sizes) meet each other in a grid of their own, unless
+        // none of them came out small (boxes with NaN sides) and it would never end.
+        if self.wide.len() > INNER_FROM {
+            let mut inner = self.inner.take().unwrap_or_default();
+            inner.boxes.clear();
+            inner.ids.clear();
+            for &w in &self.wide {
+                inner.boxes.push(self.boxes[w as usize]);
+                inner.ids.push(self.ids[w as usize]);
+            }
+            let mut found = Vec::new();
+            if self.wide.len() < self.boxes.len() {
+                inner.find(&mut found);
+            } else {
+                for (k, a) in inner.boxes.iter().enumerate() {
+                    for (l, b) in inner.boxes.iter().enumerate().skip(k + 1) {
+                        if overlap(a, b) {
+                            found.push(ordered(inner.ids[k], inner.ids[l]));
+                        }
+                    }
+                }
+            }
+            out.extend(found);
+            self.inner = Some(inner);
+        }
+        out.sort_unstable();
+        out.dedup();
+    }
+
+    /// Chooses the cell size: the widest small box, small by the median box taken every
+    /// [`MEDIAN_EVERY`] calls.
+    fn choose_cell(&mut self) {
+        if self.median == 0.0 || self.calls >= MEDIAN_EVERY {
+            self.calls = 0;
+            self.widths.clear();
+            self.widths.extend(
+                self.boxes
+                    .iter()
+                    .map(width)
+                    .filter(|w| w.is_finite() && *w > 0.0),
+            );
+            self.median = if self.widths.is_empty() {
+                1.0
+            } else {
+                let mid = self.widths.len() / 2;
+                *self.widths.select_nth_unstable_by(mid, f32::total_cmp).1
+            };
+        }
+        self.calls += 1;
+        let limit = SMALL * self.median;
+        self.widest = self
+            .boxes
+            .iter()
+            .map(width)
+            .filter(|&w| w <= limit)
+            .fold(self.median, f32::max);
+        // Two small boxes that overlap have centres less than a cell apart on each axis,
+        // whatever the rounding of a cell's coordinates: their cells are neighbours.
+        self.inv = 1.0 / (self.widest as f64 * 1.001);
+    }
+}
+/// `(a, b)` with the lower first.
+fn ordered(a: u32, b: u32) -> (u32, u32) {
+    (a.min(b), a.max(b))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A small deterministic generator.
+    fn next(s: &mut u64) -> Real {
+        *s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (*s >> 11) as Real / (1u64 << 53) as Real
+    }
+
+    /// The grid's pairs against every pair tested.
+    fn check(grid: &mut SteppedGrid, items: &[(u32, Aabb)], what: &str) {
+        let mut out = Vec::new();
+        grid.pairs(items.iter().copied(), &mut out);
+        let mut want = Vec::new();
+        for (k, a) in items.iter().enumerate() {
+            for b in &items[k + 1..] {
+                if a.1.0.cmple(b.1.1).all() && b.1.0.cmple(a.1.1).all() {
+                    want.push(ordered(a.0, b.0));
+                }
+            }
+        }
+        want.sort_unstable();
+        assert!(!want.is_empty(), "{what}: no pairs to find");
+        let missing: Vec<_> = want
+            .iter()
+            .filter(|p| out.binary_search(p).is_err())
+            .collect();
+        let extra: Vec<_> = out
+            .iter()
+            .filter(|p| want.binary_search(p).is_err())
+            .collect();
+        assert!(
+            missing.is_empty() && extra.is_empty(),
+            "{what}: missing {missing:?}, extra {extra:?}"
+        );
+    }
+
+    #[test]
+    fn sparse_boxes_in_hashed_cells_give_exactly_the_overlapping_pairs() {
+        let mut s = 7;
+        let mut grid = SteppedGrid::default();
+        for round in 0..4 {
+            let mut items = Vec::new();
+            for id in 0..400u32 {
+                let c = Vec3::new(next(&mut s), next(&mut s), next(&mut s)) * 20.0;
+                // Mostly small boxes, a few wide ones (a ground) and one with a NaN.
+                let h = if id % 97 == 0 {
+                    Vec3::new(15.0, 0.5, 15.0)
+                } else {
+                    Vec3::splat(0.2 + next(&mut s) * (round as Real + 1.0))
+                };
+                let b = if id == 5 && round == 2 {
+                    (Vec3::NAN, Vec3::NAN)
+                } else {
+                    (c - h, c + h)
+                };
+                items.push((id * 3 + round, b));
+            }
+            check(&mut grid, &items, &format!("round {round}"));
+        }
+    }
+
+    #[test]
+    fn a_dense_pile_with_a_spread_of_wide_boxes_gives_exactly_the_overlapping_pairs() {
+        let mut s = 11;
+        let mut grid = SteppedGrid::default();
+        for round in 0..3 {
+            let mut items = Vec::new();
+            // A lattice of boxes that touch their neighbours, jittered.
+            for k in 0..1000u32 {
+                let (x, y, z) = (k % 10, (k / 10) % 10, k / 100);
+                let c = Vec3::new(x as Real, y as Real, z as Real) * 0.5
+                    + Vec3::new(next(&mut s), next(&mut s), next(&mut s)) * 0.05;
+                let h = Vec3::new(next(&mut s), next(&mut s), next(&mut s)) * 0.05 + 0.2;
+                items.push((k, (c - h, c + h)));
+            }
+            // Wide boxes of many sizes, more than make a grid of their own.
+            for k in 0..60u32 {
+                let c = Vec3::new(next(&mut s), next(&mut s), next(&mut s)) * 5.0;
+                let h = Vec3::splat(0.6 * (1.0 + 8.0 * next(&mut s)));
+                items.push((2000 + k, (c - h, c + h)));
+            }
+            // A ground, and (once) a box with NaN sides.
+            items.push((
+                5000,
+                (Vec3::new(-50.0, -1.0, -50.0), Vec3::new(50.0, 0.1, 50.0)),
+            ));
+            if round == 1 {
+                items.push((5001, (Vec3::NAN, Vec3::ONE)));
+            }
+            check(&mut grid, &items, &format!("round {round}"));
+        }
+    }
+
+    #[test]
+    fn boxes_that_are_all_nan_or_wide_do_not_recurse_for_ever() {
+        let mut grid = SteppedGrid::default();
+        let mut items: Vec<(u32, Aabb)> = (0..40).map(|k| (k, (Vec3::NAN, Vec3::NAN))).collect();
+        items.push((100, (Vec3::ZERO, Vec3::ONE)));
+        items.push((101, (Vec3::splat(0.5), Vec3::splat(2.0))));
+        check(&mut grid, &items, "NaN boxes");
+    }
+}
+
+#[cfg(test)]
+mod timing {
+    use super::*;
+
+    #[test]
+    #[ignore]
+    fn time_a_pile() {
+        let mut s = 3u64;
+        let mut next = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 11) as Real / (1u64 << 53) as Real
+        };
+        let mut items = Vec::new();
+        for k in 0..10000u32 {
+            let (x, z, y) = (k % 10, (k / 10) % 10, k / 100);
+            let c = Vec3::new(x as Real * 0.5, y as Real * 0.5, z as Real * 0.5)
+                + Vec3::new(next(), next(), next()) * 0.05;
+            let h = 0.2 + 0.05 * next() + 0.01;
+            items.push((k, (c - Vec3::splat(h), c + Vec3::splat(h))));
+        }
+        items.push((
+            10000,
+            (Vec3::new(-50.0, -1.0, -50.0), Vec3::new(50.0, 0.0, 50.0)),
+        ));
+        let mut grid = SteppedGrid::default();
+        let mut out = Vec::new();
+        grid.pairs(items.iter().copied(), &mut out);
+        let t = std::time::Instant::now();
+        for _ in 0..100 {
+            grid.pairs(items.iter().copied(), &mut out);
+        }
+        eprintln!(
+            "{} pairs, {:.3} ms a call",
+            out.len(),
+            t.elapsed().as_secs_f64() * 10.0
+        );
+    }
+}
