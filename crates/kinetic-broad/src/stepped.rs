@@ -12,12 +12,16 @@
 //! wide ones are tested against each other. Cells that hash alike cost only tests: pairs
 //! found twice are deduplicated. Nothing is allocated once the buffers have grown.
 
+use glam::Vec3A;
 use kinetic_core::{Real, Vec3};
 
 /// A box at most this many times the median box's widest side is small.
 const SMALL: f32 = 2.0;
 /// A wide box looks up at most this many cells; a wider one is tested against every box.
 const WIDE_CELLS: i64 = 4096;
+/// The cells are not hashed while there are at most this many a box (a table of every
+/// cell, whose neighbours lie next to each other in memory).
+const DENSE_CELLS: i64 = 32;
 /// Wide boxes are tested among themselves in a grid of their own above this many.
 const INNER_FROM: usize = 32;
 /// The median is taken again every this many calls.
@@ -42,8 +46,9 @@ const FORWARD: [[i64; 3]; 13] = [
 /// An axis-aligned box `(min, max)`.
 pub(crate) type Aabb = (Vec3, Vec3);
 
-/// A box rounded outwards to single precision: `[min x, y, z, max x, y, z]`.
-type Small = [f32; 6];
+/// A box rounded outwards to single precision, `[min, max]`, in 16-byte vectors that one
+/// instruction compares.
+type Small = [Vec3A; 2];
 
 /// The grid's reused buffers.
 #[derive(Clone, Debug, Default)]
@@ -86,32 +91,27 @@ fn round(x: Real, up: bool) -> f32 {
 /// Box `b` rounded outwards.
 fn small(b: &Aabb) -> Small {
     [
-        round(b.0.x, false),
-        round(b.0.y, false),
-        round(b.0.z, false),
-        round(b.1.x, true),
-        round(b.1.y, true),
-        round(b.1.z, true),
+        Vec3A::new(
+            round(b.0.x, false),
+            round(b.0.y, false),
+            round(b.0.z, false),
+        ),
+        Vec3A::new(round(b.1.x, true), round(b.1.y, true), round(b.1.z, true)),
     ]
 }
 
 /// Box `b`'s widest side (NaN for a box with a NaN side).
 fn width(b: &Small) -> f32 {
-    let w = [b[3] - b[0], b[4] - b[1], b[5] - b[2]];
-    if w.iter().any(|w| w.is_nan()) {
+    let w = b[1] - b[0];
+    if w.is_nan() {
         return f32::NAN;
     }
-    w[0].max(w[1]).max(w[2])
+    w.max_element()
 }
 
 /// Whether two boxes overlap (touching counts).
 fn overlap(a: &Small, b: &Small) -> bool {
-    (a[0] <= b[3])
-        & (a[1] <= b[4])
-        & (a[2] <= b[5])
-        & (b[0] <= a[3])
-        & (b[1] <= a[4])
-        & (b[2] <= a[5])
+    a[0].cmple(b[1]).all() & b[0].cmple(a[1]).all()
 }
 
 /// `floor(x)` as an integer, saturating (no call into the C library's `floor`).
@@ -129,7 +129,7 @@ impl SteppedGrid {
     /// The cell of box `b`'s centre.
     fn centre_cell(&self, b: &Small) -> [i64; 3] {
         self.cell_of(std::array::from_fn(|k| {
-            (b[k] as f64 + b[k + 3] as f64) / 2.0
+            (b[0][k] as f64 + b[1][k] as f64) / 2.0
         }))
     }
 
@@ -161,7 +161,7 @@ impl SteppedGrid {
         self.runs(s, s + 1)
     }
 
-    /// Whether the small boxes' cells make a table no longer than about 4 slots a box: the
+    /// Whether the small boxes' cells make a table of at most [`DENSE_CELLS`] slots a box: the
     /// grid's least cell and size in cells, if so.
     fn dense_grid(&self) -> Option<([i64; 3], [i64; 3])> {
         let mut lo = [i64::MAX; 3];
@@ -177,14 +177,15 @@ impl SteppedGrid {
         }
         let n: [i64; 3] = std::array::from_fn(|k| hi[k].saturating_sub(lo[k]).saturating_add(1));
         let cells = n.iter().try_fold(1i64, |p, &x| p.checked_mul(x.max(1)))?;
-        (lo[0] <= hi[0] && cells <= 4 * self.boxes.len() as i64 + 64).then_some((lo, n))
+        (lo[0] <= hi[0] && cells <= DENSE_CELLS * self.boxes.len() as i64 + 64).then_some((lo, n))
     }
 
     /// Puts the pairs `(a, b)`, `a < b`, of `items` (`(id, box)`, ids distinct) whose boxes
-    /// overlap into `out`, sorted; what `out` held is cleared.
+    /// overlap and that `keep(a, b)` keeps into `out`, sorted; what `out` held is cleared.
     pub(crate) fn pairs(
         &mut self,
         items: impl IntoIterator<Item = (u32, Aabb)>,
+        keep: &dyn Fn(u32, u32) -> bool,
         out: &mut Vec<(u32, u32)>,
     ) {
         out.clear();
@@ -194,11 +195,11 @@ impl SteppedGrid {
             self.ids.push(id);
             self.boxes.push(small(&b));
         }
-        self.find(out);
+        self.find(keep, out);
     }
 
-    /// The pairs of this call's boxes, into `out` (empty).
-    fn find(&mut self, out: &mut Vec<(u32, u32)>) {
+    /// The pairs of this call's boxes that `keep` keeps, into `out` (empty).
+    fn find(&mut self, keep: &dyn Fn(u32, u32) -> bool, out: &mut Vec<(u32, u32)>) {
         if self.boxes.len() < 2 {
             return;
         }
@@ -229,8 +230,8 @@ impl SteppedGrid {
         for s in 0..len {
             self.starts[s + 1] += self.starts[s];
         }
-        self.sorted.clear();
-        self.sorted.resize(self.slots.len(), ([0.0; 6], 0));
+        // Every place is written below: no need to clear it first.
+        self.sorted.resize(self.slots.len(), ([Vec3A::ZERO; 2], 0));
         for &(s, i) in &self.slots {
             let at = &mut self.starts[s as usize];
             self.sorted[*at as usize] = (self.boxes[i as usize], i);
@@ -250,7 +251,7 @@ impl SteppedGrid {
             let at = k - self.starts[s as usize] as usize;
             for (b, j) in &run[at + 1..] {
                 if overlap(&a, b) && i != *j {
-                    out.push(ordered(self.ids[i as usize], self.ids[*j as usize]));
+                    push(out, keep, self.ids[i as usize], self.ids[*j as usize]);
                 }
             }
             match self.dense {
@@ -271,7 +272,7 @@ impl SteppedGrid {
                         let (f, t) = (f.max(0) as u32, t.max(0) as u32);
                         for (b, j) in self.runs(f, t) {
                             if overlap(&a, b) && i != *j {
-                                out.push(ordered(self.ids[i as usize], self.ids[*j as usize]));
+                                push(out, keep, self.ids[i as usize], self.ids[*j as usize]);
                             }
                         }
                     }
@@ -281,7 +282,7 @@ impl SteppedGrid {
                         let t = self.slot([c[0] + d[0], c[1] + d[1], c[2] + d[2]]);
                         for (b, j) in self.run(t) {
                             if overlap(&a, b) && i != *j {
-                                out.push(ordered(self.ids[i as usize], self.ids[*j as usize]));
+                                push(out, keep, self.ids[i as usize], self.ids[*j as usize]);
                             }
                         }
                     }
@@ -293,8 +294,8 @@ impl SteppedGrid {
         let half = 0.5 / self.inv;
         for (n, &w) in self.wide.iter().enumerate() {
             let a = self.boxes[w as usize];
-            let lo = self.cell_of(std::array::from_fn(|k| a[k] as f64 - half));
-            let hi = self.cell_of(std::array::from_fn(|k| a[k + 3] as f64 + half));
+            let lo = self.cell_of(std::array::from_fn(|k| a[0][k] as f64 - half));
+            let hi = self.cell_of(std::array::from_fn(|k| a[1][k] as f64 + half));
             let cells = (0..3)
                 .map(|k| hi[k].saturating_sub(lo[k]).saturating_add(1).max(0))
                 .fold(1i64, |p, x| p.saturating_mul(x));
@@ -304,7 +305,7 @@ impl SteppedGrid {
                         for z in lo[2]..=hi[2] {
                             for (b, j) in self.run(self.slot([x, y, z])) {
                                 if overlap(&a, b) {
-                                    out.push(ordered(self.ids[w as usize], self.ids[*j as usize]));
+                                    push(out, keep, self.ids[w as usize], self.ids[*j as usize]);
                                 }
                             }
                         }
@@ -313,14 +314,14 @@ impl SteppedGrid {
             } else {
                 for (b, j) in &self.sorted {
                     if overlap(&a, b) {
-                        out.push(ordered(self.ids[w as usize], self.ids[*j as usize]));
+                        push(out, keep, self.ids[w as usize], self.ids[*j as usize]);
                     }
                 }
             }
             if self.wide.len() <= INNER_FROM {
                 for &v in &self.wide[n + 1..] {
                     if overlap(&a, &self.boxes[v as usize]) {
-                        out.push(ordered(self.ids[w as usize], self.ids[v as usize]));
+                        push(out, keep, self.ids[w as usize], self.ids[v as usize]);
                     }
                 }
             }
@@ -337,12 +338,12 @@ impl SteppedGrid {
             }
             let mut found = Vec::new();
             if self.wide.len() < self.boxes.len() {
-                inner.find(&mut found);
+                inner.find(keep, &mut found);
             } else {
                 for (k, a) in inner.boxes.iter().enumerate() {
                     for (l, b) in inner.boxes.iter().enumerate().skip(k + 1) {
                         if overlap(a, b) {
-                            found.push(ordered(inner.ids[k], inner.ids[l]));
+                            push(&mut found, keep, inner.ids[k], inner.ids[l]);
                         }
                     }
                 }
@@ -391,6 +392,14 @@ fn ordered(a: u32, b: u32) -> (u32, u32) {
     (a.min(b), a.max(b))
 }
 
+/// Puts pair `(a, b)` into `out`, lower first, if `keep` keeps it.
+fn push(out: &mut Vec<(u32, u32)>, keep: &dyn Fn(u32, u32) -> bool, a: u32, b: u32) {
+    let p = ordered(a, b);
+    if keep(p.0, p.1) {
+        out.push(p);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -406,7 +415,7 @@ mod tests {
     /// The grid's pairs against every pair tested.
     fn check(grid: &mut SteppedGrid, items: &[(u32, Aabb)], what: &str) {
         let mut out = Vec::new();
-        grid.pairs(items.iter().copied(), &mut out);
+        grid.pairs(items.iter().copied(), &|_, _| true, &mut out);
         let mut want = Vec::new();
         for (k, a) in items.iter().enumerate() {
             for b in &items[k + 1..] {
@@ -526,10 +535,48 @@ mod timing {
         ));
         let mut grid = SteppedGrid::default();
         let mut out = Vec::new();
-        grid.pairs(items.iter().copied(), &mut out);
+        grid.pairs(items.iter().copied(), &|_, _| true, &mut out);
         let t = std::time::Instant::now();
         for _ in 0..100 {
-            grid.pairs(items.iter().copied(), &mut out);
+            grid.pairs(items.iter().copied(), &|_, _| true, &mut out);
+        }
+        eprintln!(
+            "{} pairs, {:.3} ms a call",
+            out.len(),
+            t.elapsed().as_secs_f64() * 10.0
+        );
+    }
+
+    #[test]
+    #[ignore]
+    fn time_a_rain() {
+        let mut s = 3u64;
+        let mut next = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 11) as Real / (1u64 << 53) as Real
+        };
+        let mut items = Vec::new();
+        for k in 0..10000u32 {
+            let c = Vec3::new(next() * 16.0 - 8.0, 5.0 + next() * 5.0, next() * 16.0 - 8.0);
+            let h = Vec3::new(0.15, 0.2 + 0.1 * next(), 0.15);
+            items.push((k, (c - h, c + h)));
+        }
+        for k in 0..25u32 {
+            let c = Vec3::new(next() * 16.0 - 8.0, 5.0 + next() * 5.0, next() * 16.0 - 8.0);
+            items.push((20000 + k, (c - Vec3::splat(0.6), c + Vec3::splat(0.6))));
+        }
+        items.push((
+            30000,
+            (Vec3::new(-50.0, -1.0, -50.0), Vec3::new(50.0, 0.0, 50.0)),
+        ));
+        let mut grid = SteppedGrid::default();
+        let mut out = Vec::new();
+        grid.pairs(items.iter().copied(), &|_, _| true, &mut out);
+        let t = std::time::Instant::now();
+        for _ in 0..100 {
+            grid.pairs(items.iter().copied(), &|_, _| true, &mut out);
         }
         eprintln!(
             "{} pairs, {:.3} ms a call",

@@ -25,7 +25,7 @@
 
 use super::BroadPhaseCore;
 use crate::stepped::{Aabb, SteppedGrid};
-use crate::{Engine, Hold, PairEvent};
+use crate::{Engine, Hold, Key, PairEvent};
 use kinetic_core::{Real, Vec3};
 use kinetic_flight::Choice;
 
@@ -46,12 +46,18 @@ const DWELL: u64 = 8;
 #[derive(Debug, Default)]
 pub(super) struct Stepped {
     grid: SteppedGrid,
-    /// Per collider index, its box for this call (`None`: to be worked out).
-    boxes: Vec<Option<Aabb>>,
+    /// Per collider index, its box now and how far it moves over the coming step (`None`:
+    /// to be worked out).
+    boxes: Vec<Option<(Aabb, Vec3)>>,
     /// The pairs the engine has, sorted.
     pub(super) reported: Vec<(u32, u32)>,
     /// This call's pairs.
     found: Vec<(u32, u32)>,
+    /// The bodies moved in this call, and their velocities.
+    pub(super) movers: Vec<(Key, Vec3)>,
+    /// The pairs gone and new in this call.
+    gone: Vec<(u32, u32)>,
+    new: Vec<(u32, u32)>,
 }
 
 /// What decides the mode.
@@ -80,13 +86,6 @@ impl Stepped {
         }
         if silent {
             self.reported.retain(|&(a, b)| a != i && b != i);
-        }
-    }
-
-    /// Marks collider `i`'s box to be worked out again.
-    pub(super) fn moved(&mut self, i: u32) {
-        if let Some(b) = self.boxes.get_mut(i as usize) {
-            *b = None;
         }
     }
 }
@@ -209,6 +208,32 @@ impl BroadPhaseCore {
         }
     }
 
+    /// In a stepped world: the boxes of the colliders of the bodies moved in this call, and
+    /// how far they move over the coming step (where a semi-implicit Euler step takes them
+    /// under the acceleration they have shown).
+    pub(super) fn box_movers(&mut self, engine: &impl Engine) {
+        let Some(st) = self.stepped.as_mut() else {
+            return;
+        };
+        let dt = self.clock.dt;
+        for &(b, v) in &st.movers {
+            let Some(m) = self.motions.get(b) else {
+                continue;
+            };
+            let d = (v + m.steady_a * dt) * dt;
+            for &i in &m.colliders {
+                let Some(p) = self.proxies[i as usize] else {
+                    continue;
+                };
+                if st.boxes.len() <= i as usize {
+                    st.boxes.resize(i as usize + 1, None);
+                }
+                st.boxes[i as usize] = engine.bounds(p.key).map(|b| (b, d));
+            }
+        }
+        st.movers.clear();
+    }
+
     /// The stepped call: every collider's box, the pairs whose boxes overlap, and the adds
     /// and deletes that take the engine's pairs to them.
     pub(super) fn step_pairs(&mut self, engine: &impl Engine, events: &mut Vec<PairEvent>) {
@@ -236,33 +261,42 @@ impl BroadPhaseCore {
                 continue;
             }
             st.boxes[i] = Some(match p.hold {
-                Hold::Fixed { min, max } => (min, max),
+                Hold::Fixed { min, max } => ((min, max), Vec3::ZERO),
                 Hold::Moving { body, radius, .. } => {
                     let v = engine.body(body).map_or(Vec3::ZERO, |rb| rb.velocity);
-                    let (lo, hi) = engine.bounds(p.key).unwrap_or_else(|| {
-                        let c = self
-                            .motions
-                            .get(body)
-                            .map_or(Vec3::ZERO, |m| m.plan.position_at(self.clock.pos));
+                    let m = self.motions.get(body);
+                    let b = engine.bounds(p.key).unwrap_or_else(|| {
+                        let c = m.map_or(Vec3::ZERO, |m| m.plan.position_at(self.clock.pos));
                         (c - Vec3::splat(radius), c + Vec3::splat(radius))
                     });
-                    let d = v * dt;
-                    (lo + d.min(Vec3::ZERO), hi + d.max(Vec3::ZERO))
+                    // Where a semi-implicit Euler step takes it under the acceleration it
+                    // has shown.
+                    let a = m.map_or(Vec3::ZERO, |m| m.steady_a);
+                    (b, (v + a * dt) * dt)
                 }
             });
         }
+        // Of the pairs whose swept boxes overlap, those whose boxes meet as they move: two
+        // bodies falling side by side are not a pair.
         let boxes = &st.boxes;
+        let keep = |a: u32, b: u32| match (boxes[a as usize], boxes[b as usize]) {
+            (Some(x), Some(y)) => meet_within_step(x, y),
+            _ => true,
+        };
         st.grid.pairs(
-            boxes
-                .iter()
-                .enumerate()
-                .filter_map(|(i, b)| Some((i as u32, (*b)?))),
+            boxes.iter().enumerate().filter_map(|(i, b)| {
+                let ((lo, hi), d) = (*b)?;
+                Some((i as u32, (lo + d.min(Vec3::ZERO), hi + d.max(Vec3::ZERO))))
+            }),
+            &keep,
             &mut st.found,
         );
         // The difference, in order: deletes of pairs gone, adds of pairs new.
         let (old, new) = (&st.reported, &st.found);
         let (mut i, mut j) = (0, 0);
-        let (mut adds, mut deletes) = (Vec::new(), Vec::new());
+        let (adds, deletes) = (&mut st.new, &mut st.gone);
+        adds.clear();
+        deletes.clear();
         while i < old.len() || j < new.len() {
             match (old.get(i), new.get(j)) {
                 (Some(a), Some(b)) if a == b => {
@@ -281,10 +315,10 @@ impl BroadPhaseCore {
             }
         }
         std::mem::swap(&mut st.reported, &mut st.found);
-        for (a, b) in adds {
+        for &(a, b) in &st.new {
             self.out_event(a, b, true, events);
         }
-        for (a, b) in deletes {
+        for &(a, b) in &st.gone {
             self.out_event(a, b, false, events);
         }
     }
@@ -303,5 +337,57 @@ impl BroadPhaseCore {
             self.step.deleted += 1;
             events.push(PairEvent::Delete(pa.key, pb.key));
         }
+    }
+}
+
+/// Whether box `a` moving by `da` and box `b` moving by `db`, both at constant speed over the
+/// step, overlap at some moment of it (touching counts; a little more, for the rounding).
+fn meet_within_step(((alo, ahi), da): (Aabb, Vec3), ((blo, bhi), db): (Aabb, Vec3)) -> bool {
+    let d = da - db;
+    let (mut t0, mut t1): (Real, Real) = (0.0, 1.0);
+    for k in 0..3 {
+        let tol = 1e-9 * (alo[k].abs() + ahi[k].abs() + blo[k].abs() + bhi[k].abs() + d[k].abs());
+        // a.lo + d t <= b.hi and b.lo <= a.hi + d t.
+        let (upper, lower) = (bhi[k] - alo[k] + tol, blo[k] - ahi[k] - tol);
+        if d[k] == 0.0 {
+            if upper < 0.0 || lower > 0.0 {
+                return false;
+            }
+            continue;
+        }
+        let (x, y) = (upper / d[k], lower / d[k]);
+        let (lo, hi) = if d[k] > 0.0 { (y, x) } else { (x, y) };
+        t0 = t0.max(lo);
+        t1 = t1.min(hi);
+    }
+    t0 <= t1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn unit(at: Vec3) -> Aabb {
+        (at, at + Vec3::ONE)
+    }
+
+    #[test]
+    fn boxes_meet_within_the_step_by_their_motion_relative_to_each_other() {
+        let (a, b) = (unit(Vec3::ZERO), unit(Vec3::new(3.0, 0.0, 0.0)));
+        // Apart and still, or falling side by side: no.
+        assert!(!meet_within_step((a, Vec3::ZERO), (b, Vec3::ZERO)));
+        let fall = Vec3::new(0.0, -5.0, 0.0);
+        assert!(!meet_within_step((a, fall), (b, fall)));
+        // Closing the gap of 2 within the step: yes, whichever moves; half way: no.
+        let right = Vec3::new(2.0, 0.0, 0.0);
+        assert!(meet_within_step((a, right), (b, Vec3::ZERO)));
+        assert!(meet_within_step((a, Vec3::ZERO), (b, -right)));
+        assert!(!meet_within_step((a, right / 2.0), (b, Vec3::ZERO)));
+        // Crossing on x while apart on y the whole step: no; a diagonal that meets: yes.
+        let c = unit(Vec3::new(3.0, 2.0, 0.0));
+        assert!(!meet_within_step((a, Vec3::new(4.0, 0.0, 0.0)), (c, Vec3::ZERO)));
+        assert!(meet_within_step((a, Vec3::new(4.0, 2.0, 0.0)), (c, Vec3::ZERO)));
+        // Touching counts.
+        assert!(meet_within_step((a, Vec3::ZERO), (unit(Vec3::X), Vec3::ZERO)));
     }
 }

@@ -112,6 +112,9 @@ impl BroadPhaseCore {
             }
             let Some(rb) = engine.body(b) else { continue };
             let v = rb.velocity;
+            if let Some(st) = self.stepped.as_mut() {
+                st.movers.push((b, v));
+            }
             if !starts_step {
                 if m.seen.wrapping_add(1) == update {
                     let a = (v - m.last_v) / dt;
@@ -158,13 +161,7 @@ impl BroadPhaseCore {
                 seen_moving += 1;
             }
         }
-        if let Some(st) = self.stepped.as_mut() {
-            for &b in &moved {
-                for &i in self.motions.get(b).map_or(&[][..], |m| &m.colliders) {
-                    st.moved(i);
-                }
-            }
-        }
+        self.box_movers(engine);
         let changed = !new.is_empty() || !removed_colliders.is_empty();
         self.install(&new, engine, step, update);
 
