@@ -25,7 +25,7 @@
 
 use super::BroadPhaseCore;
 use crate::stepped::{Aabb, SteppedGrid};
-use crate::{Engine, Hold, Key, PairEvent};
+use crate::{Engine, Hold, PairEvent};
 use kinetic_core::{Real, Vec3};
 use kinetic_flight::Choice;
 
@@ -35,10 +35,19 @@ const OP_COST: Real = 40.0;
 /// The stepped cost of a collider.
 const BOX_COST: Real = 1.0;
 /// Costs are averaged over about this many steps.
-const SMOOTHING: Real = 4.0;
+const SMOOTHING: Real = 2.0;
 /// A stepped world goes back to kinetic once a kinetic step is priced below this share of a
 /// stepped one.
 const BACK: Real = 0.5;
+/// A stepped world passes over its bodies' plans on three position updates running in
+/// this many.
+const PRICE_EVERY: u64 = 12;
+/// A stepped world goes back to kinetic after this many counts running priced it cheaper...
+const CALM_COUNTS: u32 = 2;
+/// ... or up to this many, after kinetic stretches that did not last...
+const MOST_CALM_COUNTS: u32 = 16;
+/// ... this many steps.
+const SHORT_STRETCH: u64 = 120;
 /// Steps between two switches at least.
 const DWELL: u64 = 8;
 
@@ -53,8 +62,11 @@ pub(super) struct Stepped {
     pub(super) reported: Vec<(u32, u32)>,
     /// This call's pairs.
     found: Vec<(u32, u32)>,
-    /// The bodies moved in this call, and their velocities.
-    pub(super) movers: Vec<(Key, Vec3)>,
+    /// Per collider index, its box's centre at the last call and how far it had moved
+    /// since the call before, if seen.
+    history: Vec<Option<(Vec3, Option<Vec3>)>>,
+    /// Position updates since the world stepped.
+    updates: u64,
     /// The pairs gone and new in this call.
     gone: Vec<(u32, u32)>,
     new: Vec<(u32, u32)>,
@@ -75,14 +87,61 @@ pub(super) struct Meter {
     switched: u64,
     /// Whether the next position update switches.
     switch: bool,
+    /// Counts running that priced a kinetic step below [`BACK`] of a stepped one, and how
+    /// many it takes to go back: [`CALM_COUNTS`], doubled (up to [`MOST_CALM_COUNTS`]) each
+    /// time a kinetic stretch ends within [`SHORT_STRETCH`] steps.
+    calm: u32,
+    need: u32,
 }
 
 impl Stepped {
+    /// Whether this position update passes over the moved bodies' plans (three running
+    /// every [`PRICE_EVERY`], the third counting the re-plans) rather than only over the
+    /// moved colliders' boxes.
+    pub(super) fn full(&self) -> bool {
+        self.updates % PRICE_EVERY < 3
+    }
+
+    /// Whether this position update's re-plans price a kinetic step.
+    fn counting(&self) -> bool {
+        self.updates % PRICE_EVERY == 2
+    }
+
+    /// Collider `i` moved to box `b` (`None`: the engine gives none): how far it moves over
+    /// the coming step is taken from how far it moved over the last two, as a semi-implicit
+    /// Euler step under a steady acceleration does (`2 d1 - d0`).
+    pub(super) fn track(&mut self, i: u32, b: Option<Aabb>) {
+        let i = i as usize;
+        if self.boxes.len() <= i {
+            self.boxes.resize(i + 1, None);
+            self.history.resize(i + 1, None);
+        }
+        let Some(b) = b else {
+            self.boxes[i] = None;
+            self.history[i] = None;
+            return;
+        };
+        let c = (b.0 + b.1) / 2.0;
+        match self.history[i] {
+            Some((last, d0)) => {
+                let d1 = c - last;
+                let ahead = d0.map_or(d1, |d0| 2.0 * d1 - d0);
+                self.boxes[i] = Some((b, ahead));
+                self.history[i] = Some((c, Some(d1)));
+            }
+            // Seen for the first time: worked out from its body's velocity.
+            None => self.boxes[i] = None,
+        }
+    }
+
     /// Forgets collider `i`'s box and (`silent`) its pairs: the engine drops a removed
     /// collider's pairs itself.
     pub(super) fn forget(&mut self, i: u32, silent: bool) {
         if let Some(b) = self.boxes.get_mut(i as usize) {
             *b = None;
+        }
+        if let Some(h) = self.history.get_mut(i as usize) {
+            *h = None;
         }
         if silent {
             self.reported.retain(|&(a, b)| a != i && b != i);
@@ -111,9 +170,21 @@ impl BroadPhaseCore {
         }
         let held = self.proxies.iter().flatten().count() as Real;
         let replans = self.step.replans as Real;
+        // A stepped world counts its re-plans only now and then.
+        let counted = self.stepped.as_ref().is_none_or(Stepped::counting);
+        if let Some(st) = self.stepped.as_mut() {
+            st.updates += 1;
+        }
         let m = &mut self.meter;
-        let w = 1.0 / SMOOTHING;
-        let kinetic = if self.stepped.is_some() {
+        // A count now and then is taken as it is; a kinetic step's own costs are averaged.
+        let w = if self.stepped.is_some() {
+            1.0
+        } else {
+            1.0 / SMOOTHING
+        };
+        let kinetic = if !counted {
+            m.kinetic
+        } else if self.stepped.is_some() {
             if m.last_cost > 0.0 {
                 m.last_cost * (replans + 1.0) / (m.last_replans + 1.0)
             } else {
@@ -125,17 +196,34 @@ impl BroadPhaseCore {
         };
         m.kinetic += w * (kinetic - m.kinetic);
         m.stepped += w * (BOX_COST * held - m.stepped);
-        m.replans += w * (replans - m.replans);
+        if counted {
+            m.replans += w * (replans - m.replans);
+        }
         let steps = self.stats.steps;
+        if self.stepped.is_some() && counted {
+            m.calm = if m.kinetic < BACK * m.stepped {
+                m.calm + 1
+            } else {
+                0
+            };
+        }
+        let need = m.need.max(CALM_COUNTS);
         if steps < m.switched + DWELL {
             return;
         }
         if self.stepped.is_none() && m.kinetic > m.stepped {
+            // A kinetic stretch that did not last: the next must wait for longer calm.
+            m.need = if steps < m.switched + SHORT_STRETCH {
+                (need * 2).min(MOST_CALM_COUNTS)
+            } else {
+                CALM_COUNTS
+            };
             m.last_cost = m.kinetic;
             m.last_replans = m.replans;
             m.switched = steps;
             m.switch = true;
-        } else if self.stepped.is_some() && m.kinetic < BACK * m.stepped {
+        } else if self.stepped.is_some() && m.calm >= need {
+            m.calm = 0;
             m.switched = steps;
             m.switch = true;
         }
@@ -208,32 +296,6 @@ impl BroadPhaseCore {
         }
     }
 
-    /// In a stepped world: the boxes of the colliders of the bodies moved in this call, and
-    /// how far they move over the coming step (where a semi-implicit Euler step takes them
-    /// under the acceleration they have shown).
-    pub(super) fn box_movers(&mut self, engine: &impl Engine) {
-        let Some(st) = self.stepped.as_mut() else {
-            return;
-        };
-        let dt = self.clock.dt;
-        for &(b, v) in &st.movers {
-            let Some(m) = self.motions.get(b) else {
-                continue;
-            };
-            let d = (v + m.steady_a * dt) * dt;
-            for &i in &m.colliders {
-                let Some(p) = self.proxies[i as usize] else {
-                    continue;
-                };
-                if st.boxes.len() <= i as usize {
-                    st.boxes.resize(i as usize + 1, None);
-                }
-                st.boxes[i as usize] = engine.bounds(p.key).map(|b| (b, d));
-            }
-        }
-        st.movers.clear();
-    }
-
     /// The stepped call: every collider's box, the pairs whose boxes overlap, and the adds
     /// and deletes that take the engine's pairs to them.
     pub(super) fn step_pairs(&mut self, engine: &impl Engine, events: &mut Vec<PairEvent>) {
@@ -250,11 +312,13 @@ impl BroadPhaseCore {
     ) {
         if st.boxes.len() < self.proxies.len() {
             st.boxes.resize(self.proxies.len(), None);
+            st.history.resize(self.proxies.len(), None);
         }
         let dt = self.clock.dt;
         for (i, p) in self.proxies.iter().enumerate() {
             let Some(p) = p else {
                 st.boxes[i] = None;
+                st.history[i] = None;
                 continue;
             };
             if st.boxes[i].is_some() {
@@ -272,6 +336,7 @@ impl BroadPhaseCore {
                     // Where a semi-implicit Euler step takes it under the acceleration it
                     // has shown.
                     let a = m.map_or(Vec3::ZERO, |m| m.steady_a);
+                    st.history[i] = Some(((b.0 + b.1) / 2.0, None));
                     (b, (v + a * dt) * dt)
                 }
             });
@@ -385,9 +450,18 @@ mod tests {
         assert!(!meet_within_step((a, right / 2.0), (b, Vec3::ZERO)));
         // Crossing on x while apart on y the whole step: no; a diagonal that meets: yes.
         let c = unit(Vec3::new(3.0, 2.0, 0.0));
-        assert!(!meet_within_step((a, Vec3::new(4.0, 0.0, 0.0)), (c, Vec3::ZERO)));
-        assert!(meet_within_step((a, Vec3::new(4.0, 2.0, 0.0)), (c, Vec3::ZERO)));
+        assert!(!meet_within_step(
+            (a, Vec3::new(4.0, 0.0, 0.0)),
+            (c, Vec3::ZERO)
+        ));
+        assert!(meet_within_step(
+            (a, Vec3::new(4.0, 2.0, 0.0)),
+            (c, Vec3::ZERO)
+        ));
         // Touching counts.
-        assert!(meet_within_step((a, Vec3::ZERO), (unit(Vec3::X), Vec3::ZERO)));
+        assert!(meet_within_step(
+            (a, Vec3::ZERO),
+            (unit(Vec3::X), Vec3::ZERO)
+        ));
     }
 }

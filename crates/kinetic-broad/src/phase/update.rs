@@ -48,15 +48,26 @@ impl BroadPhaseCore {
 
         let mut new = Vec::new();
         let mut moved: Vec<Key> = Vec::new();
+        // A stepped world passes over its bodies only now and then: between, a position
+        // update costs one box a moved collider.
+        let full = starts_step || self.stepped.as_ref().is_none_or(|st| st.full());
         for &h in modified_colliders {
             if !starts_step {
                 // After a position update a held collider has only moved with its body (only
                 // the user changes shapes, parents and body types, at the start of a step).
-                if let Some(Some((g, body))) = self.movers.get(h.index as usize)
-                    && *g == h.generation
+                if let Some(&Some((g, body))) = self.movers.get(h.index as usize)
+                    && g == h.generation
                 {
-                    if *body != u32::MAX {
-                        let (word, bit) = (*body as usize / 64, *body % 64);
+                    if body != u32::MAX
+                        && let Some(st) = self.stepped.as_mut()
+                    {
+                        st.track(h.index, engine.bounds(h));
+                        if !full {
+                            continue;
+                        }
+                    }
+                    if body != u32::MAX {
+                        let (word, bit) = (body as usize / 64, body % 64);
                         if self.moved_bits.len() <= word {
                             self.moved_bits.resize(word + 1, 0);
                         }
@@ -112,9 +123,6 @@ impl BroadPhaseCore {
             }
             let Some(rb) = engine.body(b) else { continue };
             let v = rb.velocity;
-            if let Some(st) = self.stepped.as_mut() {
-                st.movers.push((b, v));
-            }
             if !starts_step {
                 if m.seen.wrapping_add(1) == update {
                     let a = (v - m.last_v) / dt;
@@ -161,12 +169,11 @@ impl BroadPhaseCore {
                 seen_moving += 1;
             }
         }
-        self.box_movers(engine);
         let changed = !new.is_empty() || !removed_colliders.is_empty();
         self.install(&new, engine, step, update);
 
         // Unless every moving body moved in this update, some went to sleep or stopped.
-        if !starts_step && seen_moving < self.moving.len() {
+        if !starts_step && full && seen_moving < self.moving.len() {
             // Bodies that did not move in this update went to sleep or stopped: at rest.
             let mut k = 0;
             while k < self.moving.len() {
