@@ -152,7 +152,8 @@ impl KineticBroadPhase {
         self.core.last_step()
     }
 
-    /// The structure in use (its registry name), or `"none"` before the first collider.
+    /// The structure in use (its registry name), `"stepped"` while the broad phase steps, or
+    /// `"none"` before the first collider.
     pub fn structure_name(&self) -> &'static str {
         self.core.structure_name()
     }

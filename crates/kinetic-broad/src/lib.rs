@@ -13,6 +13,10 @@
 //! - [`BroadPhaseCore`]: the proxies, the bodies' plans (a body that stays within its slack
 //!   keeps its plan; one that keeps re-planning has its slack grown), the structure's events
 //!   over each step in time order, and the pair book that turns candidates into events.
+//! - Kinetic or stepped: where plans do not hold (a pile, a settling rain, a dense gas) the
+//!   core drops its structure and files every collider's box into a grid built afresh each
+//!   step, handing over the pairs whose boxes meet within it; it goes back to kinetic once
+//!   plans hold again. The choice is made from counts, so a run is the same every time.
 //!
 //! An engine calls [`BroadPhaseCore::update`] once at the start of each step (the user's
 //! changes, positions unchanged) and once after each position update, the updates together

@@ -72,8 +72,9 @@ pub(crate) struct SteppedGrid {
     /// The small boxes' slots, then the small boxes (and their places) by slot.
     slots: Vec<(u32, u32)>,
     sorted: Vec<(Small, u32)>,
-    /// This call's wide boxes.
+    /// This call's wide boxes, and each box's cell (`None`: wide).
     wide: Vec<u32>,
+    cells: Vec<Option<[i64; 3]>>,
     /// This call's boxes and their ids.
     boxes: Vec<Small>,
     ids: Vec<u32>,
@@ -81,22 +82,14 @@ pub(crate) struct SteppedGrid {
     widths: Vec<f32>,
 }
 
-/// `x` in single precision, moved out by more than the rounding (`up`: up, else down).
-fn round(x: Real, up: bool) -> f32 {
-    let f = x as f32;
-    let d = f.abs() * f32::EPSILON + f32::MIN_POSITIVE;
-    if up { f + d } else { f - d }
-}
-
-/// Box `b` rounded outwards.
+/// Box `b` rounded outwards to single precision: each end moved out by more than half a
+/// single-precision step before it is rounded to the nearest.
 fn small(b: &Aabb) -> Small {
+    let out = |x: Vec3| x.abs() * (f32::EPSILON as Real) + f32::MIN_POSITIVE as Real;
+    let (lo, hi) = (b.0 - out(b.0), b.1 + out(b.1));
     [
-        Vec3A::new(
-            round(b.0.x, false),
-            round(b.0.y, false),
-            round(b.0.z, false),
-        ),
-        Vec3A::new(round(b.1.x, true), round(b.1.y, true), round(b.1.z, true)),
+        Vec3A::new(lo.x as f32, lo.y as f32, lo.z as f32),
+        Vec3A::new(hi.x as f32, hi.y as f32, hi.z as f32),
     ]
 }
 
@@ -166,13 +159,10 @@ impl SteppedGrid {
     fn dense_grid(&self) -> Option<([i64; 3], [i64; 3])> {
         let mut lo = [i64::MAX; 3];
         let mut hi = [i64::MIN; 3];
-        for b in &self.boxes {
-            if width(b) <= self.widest {
-                let c = self.centre_cell(b);
-                for k in 0..3 {
-                    lo[k] = lo[k].min(c[k]);
-                    hi[k] = hi[k].max(c[k]);
-                }
+        for c in self.cells.iter().flatten() {
+            for k in 0..3 {
+                lo[k] = lo[k].min(c[k]);
+                hi[k] = hi[k].max(c[k]);
             }
         }
         let n: [i64; 3] = std::array::from_fn(|k| hi[k].saturating_sub(lo[k]).saturating_add(1));
@@ -208,17 +198,22 @@ impl SteppedGrid {
         self.wide.clear();
         self.slots.clear();
         let limit = self.widest;
+        // Each small box's cell (`None`: a wide box).
+        self.cells.clear();
+        for b in &self.boxes {
+            let small = width(b) <= limit;
+            self.cells.push(small.then(|| self.centre_cell(b)));
+        }
         self.dense = self.dense_grid();
         let len = match self.dense {
             Some((_, n)) => (n[0] * n[1] * n[2]) as usize,
             None => self.boxes.len().next_power_of_two(),
         };
         self.mask = len as u32 - 1;
-        for (i, b) in self.boxes.iter().enumerate() {
-            if width(b) <= limit {
-                self.slots.push((self.slot(self.centre_cell(b)), i as u32));
-            } else {
-                self.wide.push(i as u32);
+        for (i, c) in self.cells.iter().enumerate() {
+            match c {
+                Some(c) => self.slots.push((self.slot(*c), i as u32)),
+                None => self.wide.push(i as u32),
             }
         }
         // Counting sort by slot.
@@ -241,54 +236,58 @@ impl SteppedGrid {
         self.starts.copy_within(0..len, 1);
         self.starts[0] = 0;
         // Small against small: within a cell, and with the cells after it.
-        let mut k = 0;
-        while k < self.sorted.len() {
-            let (a, i) = self.sorted[k];
-            let c = self.centre_cell(&a);
-            let s = self.slot(c);
-            let run = self.run(s);
-            // The boxes of this slot after this one.
-            let at = k - self.starts[s as usize] as usize;
-            for (b, j) in &run[at + 1..] {
-                if overlap(&a, b) && i != *j {
+        let test = |a: &Small, i: u32, run: &[(Small, u32)], out: &mut Vec<(u32, u32)>| {
+            for (b, j) in run {
+                // A box whose cells hash alike is filed twice in a slot.
+                if overlap(a, b) && i != *j {
                     push(out, keep, self.ids[i as usize], self.ids[*j as usize]);
                 }
             }
-            match self.dense {
-                // In a dense table the 13 cells after this one lie in 5 runs of slots: the
-                // next cell, then three rows of three (slots past a row's end only add tests).
-                Some((_, n)) => {
-                    let s = s as i64;
-                    let (row, slab) = (n[2], n[1] * n[2]);
-                    let from = [
-                        s + 1,
-                        s + row - 1,
-                        s + slab - row - 1,
-                        s + slab - 1,
-                        s + slab + row - 1,
-                    ];
-                    for (r, f) in from.into_iter().enumerate() {
-                        let t = if r == 0 { f + 1 } else { f + 3 };
-                        let (f, t) = (f.max(0) as u32, t.max(0) as u32);
-                        for (b, j) in self.runs(f, t) {
-                            if overlap(&a, b) && i != *j {
-                                push(out, keep, self.ids[i as usize], self.ids[*j as usize]);
-                            }
-                        }
+        };
+        match self.dense {
+            // In a dense table the 13 cells after a cell lie in 5 runs of slots: the next
+            // cell, then three rows of three (slots past a row's end only add tests).
+            Some((_, n)) => {
+                let (row, slab) = (n[2], n[1] * n[2]);
+                for s in 0..len as u32 {
+                    let run = self.run(s);
+                    if run.is_empty() {
+                        continue;
                     }
-                }
-                None => {
-                    for d in FORWARD {
-                        let t = self.slot([c[0] + d[0], c[1] + d[1], c[2] + d[2]]);
-                        for (b, j) in self.run(t) {
-                            if overlap(&a, b) && i != *j {
-                                push(out, keep, self.ids[i as usize], self.ids[*j as usize]);
-                            }
+                    let t = s as i64;
+                    let from = [
+                        t + 1,
+                        t + row - 1,
+                        t + slab - row - 1,
+                        t + slab - 1,
+                        t + slab + row - 1,
+                    ];
+                    let near: [&[(Small, u32)]; 5] = std::array::from_fn(|r| {
+                        let f = from[r];
+                        let e = if r == 0 { f + 1 } else { f + 3 };
+                        self.runs(f.max(0) as u32, e.max(0) as u32)
+                    });
+                    for (k, (a, i)) in run.iter().enumerate() {
+                        test(a, *i, &run[k + 1..], out);
+                        for r in near {
+                            test(a, *i, r, out);
                         }
                     }
                 }
             }
-            k += 1;
+            None => {
+                for s in 0..len as u32 {
+                    let run = self.run(s);
+                    for (k, (a, i)) in run.iter().enumerate() {
+                        test(a, *i, &run[k + 1..], out);
+                        let c = self.cells[*i as usize].unwrap_or_default();
+                        for d in FORWARD {
+                            let t = self.slot([c[0] + d[0], c[1] + d[1], c[2] + d[2]]);
+                            test(a, *i, self.run(t), out);
+                        }
+                    }
+                }
+            }
         }
         // Wide boxes: against the small boxes whose centres can lie near, or against all.
         let half = 0.5 / self.inv;

@@ -37,8 +37,8 @@
 //! moving body has a flight plan fitted to rapier's integrator (position, velocity, and the
 //! acceleration it has shown two steps running: gravity and any other constant force). A body
 //! that stays within the slack of its plan keeps it; only bodies that left it are re-planned.
-//! A body that keeps re-planning (jostled in a pile) has its slack doubled, up to 8 times,
-//! and halved back once it keeps its plans. Fixed and sleeping bodies have rest plans and
+//! A body that keeps re-planning has its slack doubled, up to 8 times, and halved back once
+//! it keeps its plans. Fixed and sleeping bodies have rest plans and
 //! cost nothing per step.
 //!
 //! rapier 0.27 calls the broad phase once at the start of each step (the user's changes,
@@ -52,6 +52,13 @@
 //! comes first; a removed collider's pairs go
 //! without events (the narrow phase drops them itself). Same-body pairs and collision groups
 //! are filtered by rapier's narrow phase, as with the default broad phase.
+//!
+//! Where plans do not hold (a pile, a settling rain, a dense gas: re-plans every few steps),
+//! the broad phase *steps* instead: each step it files every collider's box, swept over the
+//! step by its own last moves, into a grid built afresh, and hands rapier the pairs whose
+//! boxes meet within the step. It prices both ways from its counts (re-plans and events
+//! against colliders) and switches back once plans hold again; `structure_name()` says
+//! `"stepped"` meanwhile. A structure the caller picks stays kinetic.
 //!
 //! The structure is picked from the first colliders' sizes unless the caller picks one
 //! ([`KineticBroadPhase::with_structure`]). Moving colliders of alike sizes (a rain, a pile)

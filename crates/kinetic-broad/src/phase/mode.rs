@@ -1,23 +1,29 @@
-//! Kinetic or stepped: the broad phase follows what the world's bodies do.
+//! Kinetic or stepped: the broad phase follows what the world's bodies do (the design and
+//! its figures: `docs/structures.md`).
 //!
 //! Plans pay where they hold. In a pile, a settling rain or a dense gas nearly every body is
 //! pushed off its plan every few steps, and each re-plan costs the kinetic structure far more
 //! than filing the body's box again. There the broad phase *steps*: the kinetic structure is
-//! dropped and each call files every collider's box, swept over the coming step, into the
-//! stepped grid ([`crate::stepped`]) and hands over the pairs whose boxes overlap.
+//! dropped and each position update files every collider's box, swept over the coming step,
+//! into the stepped grid ([`crate::stepped`]) and hands over the pairs whose boxes meet
+//! within the step. A box's sweep is its own last two moves extrapolated (`2 d1 - d0`);
+//! between pricing windows an update reads only the moved colliders' boxes.
 //!
 //! The choice is made from counts, never from clocks, so a run is the same every time:
 //!
-//! - kinetic, a step costs its re-plans and events, [`OP_COST`] each;
+//! - kinetic, a step costs its re-plans and events, [`OP_COST`] each, averaged over about
+//!   [`SMOOTHING`] steps;
 //! - stepped, a step costs [`BOX_COST`] per collider held;
-//! - while stepped, the plans are still kept (re-fitted as they fail, at no cost to any
-//!   structure), and a kinetic step is priced as the last kinetic stretch's cost scaled by
-//!   how many re-plans there are now to how many there were then.
+//! - stepped, the bodies' plans are kept on three position updates in [`PRICE_EVERY`] (no
+//!   structure to tell), and the third prices a kinetic step: the last kinetic stretch's
+//!   cost scaled by its re-plans to the re-plans now.
 //!
-//! Both costs are averaged over about [`SMOOTHING`] steps. The world steps once the kinetic
-//! cost is above the stepped one and goes back once it is below [`BACK`] of it, at least
-//! [`DWELL`] steps after the last switch. Only the structure the broad phase picks for
-//! itself switches: a caller's choice ([`BroadPhaseCore::with_structure`]) stays kinetic.
+//! The world steps once the kinetic cost is above the stepped one, and goes back after
+//! [`CALM_COUNTS`] prices running below [`BACK`] of it (more after kinetic stretches that did
+//! not last), at least [`DWELL`] steps after the last switch. A world starts stepped unless
+//! most of its bodies sleep. Only the loose grid's worlds step, and only when the broad phase
+//! picked the structure itself: a caller's choice ([`BroadPhaseCore::with_structure`]) stays
+//! kinetic.
 //!
 //! The pairs the engine has are carried over at a switch: to the stepped grid's, with adds
 //! and deletes for the difference, and back to the kinetic book, which adopts those it holds
@@ -48,6 +54,8 @@ const CALM_COUNTS: u32 = 2;
 const MOST_CALM_COUNTS: u32 = 16;
 /// ... this many steps.
 const SHORT_STRETCH: u64 = 120;
+/// The typical move of the boxes is taken from at most this many of them.
+const SAMPLE: usize = 1024;
 /// Steps between two switches at least.
 const DWELL: u64 = 8;
 
@@ -67,6 +75,8 @@ pub(super) struct Stepped {
     history: Vec<Option<(Vec3, Option<Vec3>)>>,
     /// Position updates since the world stepped.
     updates: u64,
+    /// Scratch for the typical move.
+    sample: Vec<Real>,
     /// The pairs gone and new in this call.
     gone: Vec<(u32, u32)>,
     new: Vec<(u32, u32)>,
@@ -343,6 +353,9 @@ impl BroadPhaseCore {
         }
         // Of the pairs whose swept boxes overlap, those whose boxes meet as they move: two
         // bodies falling side by side are not a pair.
+        // Two boxes meet as they move in any frame that moves steadily: the boxes are swept
+        // in the frame of the typical box (a falling heap's boxes then hardly sweep at all).
+        let frame = typical_move(&st.boxes, &mut st.sample);
         let boxes = &st.boxes;
         let keep = |a: u32, b: u32| match (boxes[a as usize], boxes[b as usize]) {
             (Some(x), Some(y)) => meet_within_step(x, y),
@@ -351,6 +364,7 @@ impl BroadPhaseCore {
         st.grid.pairs(
             boxes.iter().enumerate().filter_map(|(i, b)| {
                 let ((lo, hi), d) = (*b)?;
+                let d = d - frame;
                 Some((i as u32, (lo + d.min(Vec3::ZERO), hi + d.max(Vec3::ZERO))))
             }),
             &keep,
@@ -403,6 +417,29 @@ impl BroadPhaseCore {
             events.push(PairEvent::Delete(pa.key, pb.key));
         }
     }
+}
+
+/// The median move of the boxes `boxes` over the step, axis by axis, from at most
+/// [`SAMPLE`] of them evenly spaced.
+fn typical_move(boxes: &[Option<(Aabb, Vec3)>], sample: &mut Vec<Real>) -> Vec3 {
+    let moves: Vec<Vec3> = {
+        let n = boxes.iter().flatten().count();
+        let every = n.div_ceil(SAMPLE).max(1);
+        boxes.iter().flatten().step_by(every).map(|b| b.1).collect()
+    };
+    if moves.is_empty() {
+        return Vec3::ZERO;
+    }
+    let mut axis = |k: usize| {
+        sample.clear();
+        sample.extend(moves.iter().map(|d| d[k]).filter(|x| x.is_finite()));
+        if sample.is_empty() {
+            return 0.0;
+        }
+        let mid = sample.len() / 2;
+        *sample.select_nth_unstable_by(mid, Real::total_cmp).1
+    };
+    Vec3::new(axis(0), axis(1), axis(2))
 }
 
 /// Whether box `a` moving by `da` and box `b` moving by `db`, both at constant speed over the

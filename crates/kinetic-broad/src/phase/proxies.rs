@@ -155,8 +155,16 @@ impl BroadPhaseCore {
             self.choice = Some(pick_structure(&holds));
         }
         if self.structure.is_none() && !self.is_stepped() {
-            if self.may_step() {
-                // A world starts stepped: its first steps show whether plans hold.
+            // A world starts stepped, its first steps showing whether plans hold, unless most
+            // of its bodies sleep (plans at rest, which hold for as long as they sleep).
+            let (mut moving, mut asleep) = (0, 0);
+            for (_, hold) in &holds {
+                if let Hold::Moving { body, .. } = *hold {
+                    moving += 1;
+                    asleep += usize::from(engine.body(body).is_some_and(|b| b.sleeping));
+                }
+            }
+            if self.may_step() && 2 * asleep < moving.max(1) {
                 self.stepped = Some(Default::default());
             } else {
                 self.structure = Some(new_structure(self.structure_choice(), step.dt));
