@@ -24,6 +24,7 @@ impl BroadPhaseCore {
             bodies: Vec::new(),
             plans: Vec::new(),
             proxies: Vec::new(),
+            held: 0,
             movers: Vec::new(),
             moved_bits: Vec::new(),
             motions: ByBody::default(),
@@ -136,6 +137,6 @@ impl BroadPhaseCore {
 
     /// The number of colliders held.
     pub fn held(&self) -> usize {
-        self.proxies.iter().flatten().count()
+        self.held
     }
 }

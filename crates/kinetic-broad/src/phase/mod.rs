@@ -126,6 +126,8 @@ pub struct BroadPhaseCore {
     /// book's gate to know when to ask again.
     plans: Vec<u32>,
     proxies: Vec<Option<Proxy>>,
+    /// How many colliders are held (`proxies` that are `Some`).
+    held: usize,
     /// Per collider index, the generation of the collider held there and the index of its
     /// moving body (`u32::MAX` for a fixed one): all a position update reads of each moved
     /// collider, kept compact because an engine lists them in its own order (rapier: its islands').

@@ -75,6 +75,10 @@ pub(super) struct Stepped {
     history: Vec<Option<(Vec3, Option<Vec3>)>>,
     /// Position updates since the world stepped.
     updates: u64,
+    /// Colliders whose boxes are to be worked out from their bodies (new ones, those
+    /// without a history), or (`all`) every collider.
+    pub(super) pending: Vec<u32>,
+    all: bool,
     /// Scratch for the typical move.
     sample: Vec<Real>,
     /// The pairs gone and new in this call.
@@ -129,6 +133,7 @@ impl Stepped {
         let Some(b) = b else {
             self.boxes[i] = None;
             self.history[i] = None;
+            self.pending.push(i as u32);
             return;
         };
         let c = (b.0 + b.1) / 2.0;
@@ -140,7 +145,10 @@ impl Stepped {
                 self.history[i] = Some((c, Some(d1)));
             }
             // Seen for the first time: worked out from its body's velocity.
-            None => self.boxes[i] = None,
+            None => {
+                self.boxes[i] = None;
+                self.pending.push(i as u32);
+            }
         }
     }
 
@@ -178,7 +186,7 @@ impl BroadPhaseCore {
         if !self.may_step() {
             return;
         }
-        let held = self.proxies.iter().flatten().count() as Real;
+        let held = self.held as Real;
         let replans = self.step.replans as Real;
         // A stepped world counts its re-plans only now and then.
         let counted = self.stepped.as_ref().is_none_or(Stepped::counting);
@@ -269,6 +277,7 @@ impl BroadPhaseCore {
         }
         self.stepped = Some(Stepped {
             reported: had,
+            all: true,
             ..Stepped::default()
         });
     }
@@ -325,8 +334,15 @@ impl BroadPhaseCore {
             st.history.resize(self.proxies.len(), None);
         }
         let dt = self.clock.dt;
-        for (i, p) in self.proxies.iter().enumerate() {
-            let Some(p) = p else {
+        let pending = if std::mem::take(&mut st.all) {
+            st.pending.clear();
+            (0..self.proxies.len() as u32).collect()
+        } else {
+            std::mem::take(&mut st.pending)
+        };
+        for &i in &pending {
+            let i = i as usize;
+            let Some(p) = self.proxies.get(i).copied().flatten() else {
                 st.boxes[i] = None;
                 st.history[i] = None;
                 continue;
@@ -351,6 +367,8 @@ impl BroadPhaseCore {
                 }
             });
         }
+        st.pending = pending;
+        st.pending.clear();
         // Of the pairs whose swept boxes overlap, those whose boxes meet as they move: two
         // bodies falling side by side are not a pair.
         // Two boxes meet as they move in any frame that moves steadily: the boxes are swept

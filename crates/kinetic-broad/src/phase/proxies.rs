@@ -72,6 +72,7 @@ impl BroadPhaseCore {
         }
         self.changes = changes;
         let proxy = self.proxies[i as usize].take().expect("held");
+        self.held -= 1;
         self.movers[i as usize] = None;
         if let Hold::Moving { body, .. } = proxy.hold
             && let Some(m) = self.motions.get_mut(body)
@@ -203,7 +204,12 @@ impl BroadPhaseCore {
                 fat: self.joining_box(engine, h, &hold),
             };
             self.movers[i as usize] = Some(proxy.mover());
-            self.proxies[i as usize] = Some(proxy);
+            if self.proxies[i as usize].replace(proxy).is_none() {
+                self.held += 1;
+            }
+            if let Some(st) = self.stepped.as_mut() {
+                st.pending.push(i);
+            }
         }
         let grow = self.lag_growth();
         if grow == 0.0 {

@@ -30,6 +30,10 @@ impl BroadPhaseCore {
                 return Err(format!("collider {h:?} is not held"));
             }
         }
+        let held = self.proxies.iter().flatten().count();
+        if held != self.held {
+            return Err(format!("{held} colliders held, counted {}", self.held));
+        }
         for (i, p) in self.proxies.iter().enumerate() {
             let want = p.as_ref().map(Proxy::mover);
             if self.movers.get(i).copied().flatten() != want {
