@@ -353,10 +353,16 @@ impl BroadPhaseCore {
             st.boxes[i] = Some(match p.hold {
                 Hold::Fixed { min, max } => ((min, max), Vec3::ZERO),
                 Hold::Moving { body, radius, .. } => {
-                    let v = engine.body(body).map_or(Vec3::ZERO, |rb| rb.velocity);
+                    let rb = engine.body(body);
+                    let v = rb.map_or(Vec3::ZERO, |rb| rb.velocity);
                     let m = self.motions.get(body);
+                    // An engine that gives no boxes: the ball of the hold about the body's
+                    // centre now (a stepped world keeps its plans only now and then).
                     let b = engine.bounds(p.key).unwrap_or_else(|| {
-                        let c = m.map_or(Vec3::ZERO, |m| m.plan.position_at(self.clock.pos));
+                        let c = rb.map_or_else(
+                            || m.map_or(Vec3::ZERO, |m| m.plan.position_at(self.clock.pos)),
+                            |rb| rb.centre,
+                        );
                         (c - Vec3::splat(radius), c + Vec3::splat(radius))
                     });
                     // Where a semi-implicit Euler step takes it under the acceleration it

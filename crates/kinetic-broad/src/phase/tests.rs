@@ -291,10 +291,17 @@ fn touching_pairs_are_held(toy: &Toy) {
 
 #[test]
 fn a_restless_world_steps_and_a_calm_one_goes_back_to_kinetic() {
+    // With the engine's boxes, and without (the balls of the holds about the bodies).
+    for boxes in [true, false] {
+        jostle_and_calm(boxes);
+    }
+}
+
+fn jostle_and_calm(boxes: bool) {
     // 100 balls on the ground, a little more than a diameter apart.
     let xs: Vec<Real> = (0..100).map(|k| k as Real * 1.05).collect();
     let mut toy = Toy::new(&xs);
-    toy.boxes = true;
+    toy.boxes = boxes;
     let mut core = BroadPhaseCore::new().with_audit();
     let mut s = 5;
     // Jostled: a fresh random push every step, so that no plan holds.
