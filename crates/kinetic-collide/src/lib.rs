@@ -103,7 +103,7 @@ pub mod kds {
         CROSSING_COST, Choice, Cone, ConeSet, ELASTIC_BRUTE_MAX, GRID_SPREAD, GuardGrid,
         HEAVY_PAIR_FACTOR, LOOSE_N, LOOSE_N_SPREAD, LOOSE_SPREAD, OBJECT_COST, PAIR_COST,
         RESTING_CROSSINGS, RESTING_GRID_MAX, RHO_MAX, SIGMA_MAX, SIZES_ALIKE, barely_moving,
-        brute_force_pays, fatness, for_flights, for_steps, guard_fatness, loose_spread,
-        paper_choice, scale_factor, spread,
+        brute_force_pays, fatness, for_flights, for_steps, grid_crossing_share, guard_fatness,
+        loose_spread, paper_choice, scale_factor, spread,
     };
 }

@@ -113,7 +113,9 @@ impl From<Choice> for StructureName {
 /// ([`ElasticCells`]), one scheduled event per ball, when it fits their sizes. A scene whose
 /// pairs cost the brute force less than a box structure's objects and [`crossings`] cost it
 /// ([`kinetic_flight::brute_force_pays`]: a few dozen objects, or a few hundred flying far
-/// without bouncing) gets the brute force. Every other scene gets the flight structure of
+/// without bouncing; where the box structure is the grid, its crossings are of its cells,
+/// [`kinetic_flight::grid_crossing_share`]) gets the brute force. Every other scene gets the
+/// flight structure of
 /// [`kinetic_flight::for_flights`] for the spread of its sizes (largest over smallest outer
 /// radius) and whether its objects barely move: the loose grid, the grid or the sweep. Plane
 /// worlds are held by the same box structures (a rolling ball's disc holds its contacts).
@@ -127,13 +129,26 @@ pub fn choose_structure(scene: &Scene) -> StructureName {
     }
     let elastic = scene.response == Response::Elastic;
     let (n, crossings) = (scene.objects.len(), crossings(scene));
-    let contacts = contacts(scene);
-    if kinetic_flight::brute_force_pays(n, crossings, contacts, heavy_pairs(scene), elastic) {
-        return StructureName::BruteForce;
-    }
     let resting = kinetic_flight::barely_moving(n, crossings);
     let plane = scene.world == WorldKind::Plane;
-    kinetic_flight::for_flights(scene.size_ratio(), n, resting, plane).into()
+    let boxes = kinetic_flight::for_flights(scene.size_ratio(), n, resting, plane);
+    let cells = match boxes {
+        Choice::Grid => crossings * kinetic_flight::grid_crossing_share(radii(scene)),
+        _ => crossings,
+    };
+    let (contacts, heavy) = (contacts(scene), heavy_pairs(scene));
+    if kinetic_flight::brute_force_pays(n, cells, contacts, heavy, elastic) {
+        return StructureName::BruteForce;
+    }
+    boxes.into()
+}
+
+/// The outer radii of a scene's objects.
+pub fn radii(scene: &Scene) -> impl Iterator<Item = f64> + '_ {
+    scene
+        .objects
+        .iter()
+        .map(|o| crate::scene::outer_radius(&o.shape))
 }
 
 /// How many times the objects cross their own size over the horizon, summed: each object's

@@ -2,10 +2,11 @@
 //! scene, follows the documented rule, and gives the brute force's contacts.
 
 use kinetic_collide::kds::{
-    GRID_SPREAD, LOOSE_SPREAD, RESTING_CROSSINGS, RESTING_GRID_MAX, brute_force_pays, loose_spread,
+    GRID_SPREAD, LOOSE_SPREAD, RESTING_CROSSINGS, RESTING_GRID_MAX, brute_force_pays,
+    grid_crossing_share, loose_spread,
 };
 use kinetic_collide::run::{StructureName, choose_structure, run_scene};
-use kinetic_collide::structures::{contacts, crossings, heavy_pairs};
+use kinetic_collide::structures::{contacts, crossings, heavy_pairs, radii};
 use kinetic_collide::{Response, WorldKind};
 use kinetic_scenes::audit::assert_same_contacts;
 use kinetic_scenes::choice::{KINDS, choice_family};
@@ -23,11 +24,7 @@ fn the_default_applies_follows_the_rule_and_matches_the_brute_force() {
         let heavy = heavy_pairs(scene);
         let elastic = scene.response == Response::Elastic;
         let n = scene.objects.len();
-        let want = if StructureName::Cells.applies_to(scene) {
-            StructureName::Cells
-        } else if brute_force_pays(n, crossings(scene), contacts(scene), heavy, elastic) {
-            StructureName::BruteForce
-        } else if crossings(scene) <= RESTING_CROSSINGS * n as f64
+        let boxes = if crossings(scene) <= RESTING_CROSSINGS * n as f64
             && n <= RESTING_GRID_MAX
             && spread <= GRID_SPREAD
         {
@@ -40,6 +37,19 @@ fn the_default_applies_follows_the_rule_and_matches_the_brute_force() {
             StructureName::Grid
         } else {
             StructureName::Sweep
+        };
+        // The grid's crossings are of its cells, wider than its objects where sizes spread.
+        let cells = if boxes == StructureName::Grid {
+            crossings(scene) * grid_crossing_share(radii(scene))
+        } else {
+            crossings(scene)
+        };
+        let want = if StructureName::Cells.applies_to(scene) {
+            StructureName::Cells
+        } else if brute_force_pays(n, cells, contacts(scene), heavy, elastic) {
+            StructureName::BruteForce
+        } else {
+            boxes
         };
         assert_eq!(pick, want, "{} at {n} (spread {spread})", case.kind);
         picked.insert(pick.as_str());

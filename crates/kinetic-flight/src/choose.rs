@@ -8,6 +8,7 @@
 //! - [`for_steps`]: a stepping engine that re-plans its bodies every few steps (the rapier
 //!   adapter): the loose grid for alike sizes, the grid otherwise.
 
+use crate::cell_math::levels_for;
 use crate::shape::fatness;
 use kinetic_core::{Real, Shape};
 
@@ -162,6 +163,19 @@ pub fn for_flights(spread: Real, n: usize, resting: bool, plane: bool) -> Choice
     }
 }
 
+/// The hierarchical grid's cell crossings per own-size crossing, relative to objects of alike
+/// sizes, for objects of outer radii `radii`. The grid files an object at the level whose
+/// cells are the first as wide as it, so its cells are 1 to `ratio` times its width for the
+/// grid's ratio between levels (`ratio` 2 for alike sizes, 16 for sizes 1:1000): over sizes
+/// spread evenly on a log scale, an object crosses `(1 - 1/ratio) / ln ratio` cells per
+/// own-size crossing. [`CROSSING_COST`] was fitted at `ratio` 2, so this is that share over
+/// its value at 2 (1 for alike sizes, 0.47 at `ratio` 16): what [`brute_force_pays`] weighs
+/// against the pairs where the grid is the box structure.
+pub fn grid_crossing_share(radii: impl IntoIterator<Item = Real>) -> Real {
+    let share = |ratio: Real| (1.0 - 1.0 / ratio) / ratio.ln();
+    levels_for(radii.into_iter()).map_or(1.0, |(_, ratio)| share(ratio) / share(2.0))
+}
+
 /// The widest spread of sizes for which `n` objects in a free world get the loose grid (see
 /// [`LOOSE_N_SPREAD`]).
 pub fn loose_spread(n: usize) -> Real {
@@ -294,6 +308,23 @@ mod tests {
         // 0.12 contacts per crossing) a box structure; in a crowd (15%, 0.9) the brute force.
         assert!(!brute_force_pays(100, 1000.0, 120.0, false, false));
         assert!(brute_force_pays(100, 1000.0, 900.0, false, false));
+    }
+
+    #[test]
+    fn the_grid_crosses_fewer_cells_where_sizes_spread() {
+        assert_eq!(grid_crossing_share([]), 1.0);
+        // Alike sizes: levels a factor 2 apart, the share the crossing cost was fitted at.
+        assert_eq!(grid_crossing_share([1.0; 100]), 1.0);
+        // Sizes 1:1000, evenly on a log scale: levels 16 apart, cells about twice as wide
+        // as their objects on average against alike sizes.
+        let wide: Vec<Real> = (0..=300)
+            .map(|i| 0.005 * (1000.0 as Real).powf(i as Real / 300.0))
+            .collect();
+        let share = grid_crossing_share(wide.iter().copied());
+        assert!((share - 0.47).abs() < 0.01, "{share}");
+        // Sizes 1:64: levels 4 apart, between the two.
+        let mid = grid_crossing_share(wide.iter().map(|r| r.powf(0.6)));
+        assert!(share < mid && mid < 1.0, "{mid}");
     }
 
     #[test]

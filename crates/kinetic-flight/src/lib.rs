@@ -64,7 +64,7 @@ pub use choose::{
     CROSSING_COST, Choice, ELASTIC_BRUTE_MAX, GRID_SPREAD, HEAVY_PAIR_FACTOR, LOOSE_N,
     LOOSE_N_SPREAD, LOOSE_SPREAD, OBJECT_COST, PAIR_COST, RESTING_CROSSINGS, RESTING_GRID_MAX,
     RHO_MAX, SIGMA_MAX, SIZES_ALIKE, barely_moving, brute_force_pays, for_flights, for_steps,
-    guard_fatness, loose_spread, paper_choice, scale_factor, spread,
+    grid_crossing_share, guard_fatness, loose_spread, paper_choice, scale_factor, spread,
 };
 pub use cones::{Cone, ConeSet};
 pub use grid::Grid;
