@@ -102,8 +102,8 @@ pub mod kds {
     pub use kinetic_flight::{
         CROSSING_COST, Choice, Cone, ConeSet, ELASTIC_BRUTE_MAX, GRID_SPREAD, GuardGrid,
         HEAVY_PAIR_FACTOR, LOOSE_N, LOOSE_N_SPREAD, LOOSE_SPREAD, OBJECT_COST, PAIR_COST,
-        RESTING_CROSSINGS, RESTING_GRID_MAX, RHO_MAX, SIGMA_MAX, SIZES_ALIKE, barely_moving,
-        brute_force_pays, fatness, for_flights, for_steps, grid_crossing_share, guard_fatness,
-        loose_spread, paper_choice, scale_factor, spread,
+        RESTING_CROSSINGS, RESTING_GRID_MAX, RHO_MAX, SIGMA_MAX, SIZES_ALIKE, SWEEP_PASS_COST,
+        barely_moving, brute_force_pays, fatness, for_flights, for_steps, grid_crossing_share,
+        guard_fatness, loose_spread, paper_choice, scale_factor, spread, sweep_crossings,
     };
 }

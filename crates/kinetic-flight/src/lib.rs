@@ -63,8 +63,9 @@ pub use auto::Auto;
 pub use choose::{
     CROSSING_COST, Choice, ELASTIC_BRUTE_MAX, GRID_SPREAD, HEAVY_PAIR_FACTOR, LOOSE_N,
     LOOSE_N_SPREAD, LOOSE_SPREAD, OBJECT_COST, PAIR_COST, RESTING_CROSSINGS, RESTING_GRID_MAX,
-    RHO_MAX, SIGMA_MAX, SIZES_ALIKE, barely_moving, brute_force_pays, for_flights, for_steps,
-    grid_crossing_share, guard_fatness, loose_spread, paper_choice, scale_factor, spread,
+    RHO_MAX, SIGMA_MAX, SIZES_ALIKE, SWEEP_PASS_COST, barely_moving, brute_force_pays, for_flights,
+    for_steps, grid_crossing_share, guard_fatness, loose_spread, paper_choice, scale_factor,
+    spread, sweep_crossings,
 };
 pub use cones::{Cone, ConeSet};
 pub use grid::Grid;
