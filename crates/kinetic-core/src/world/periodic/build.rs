@@ -205,27 +205,29 @@ impl PeriodicSpheres {
         }
     }
 
-    /// Sphere `id` reached its shell: it re-centres where it is and lists again.
+    /// Sphere `id` reached its shell: it re-centres where it is and lists again. Most of its
+    /// neighbours stay: only those that leave or join change their rows (a stamp per sphere
+    /// says which were listed), and its own row is written afresh.
     pub(super) fn relist(&mut self, id: u32) {
         let i = id as usize;
-        // The old neighbours' rows lose this sphere: they are asked for together.
-        for &k in self.lists.of(id) {
-            self.lists.prefetch(k);
-        }
-        for j in 0..self.lists.of(id).len() {
-            let other = self.lists.of(id)[j];
-            self.lists.remove(other, id);
-        }
-        self.lists.clear(id);
+        let (was, kept) = self.lists.stamps(id);
         self.centre[i] = self.motion[i].at(self.now);
         self.grid.remove(id);
         let me = self.filed(id);
         let (period, factor) = (self.period, self.list_factor);
         let lists = &mut self.lists;
+        lists.clear(id);
         self.grid
             .for_each_around(self.grid.cell(me.centre), |other| {
-                list_if_near(lists, &period, factor, &me, other);
+                if near(&period, factor, &me, other) {
+                    lists.push(id, other.id);
+                    if !lists.restamp(other.id, was, kept) {
+                        lists.push(other.id, id);
+                    }
+                }
             });
+        // The old neighbours still stamped as listed left.
+        self.lists.drop_left(id, was);
         self.grid.insert(id, me.centre, me.radius);
     }
 }
@@ -234,11 +236,18 @@ impl PeriodicSpheres {
 /// sum of radii (nearest image).
 #[inline]
 fn list_if_near(lists: &mut Lists, period: &Period, factor: Real, me: &Filed, other: &Filed) {
-    let d = me.centre - other.centre;
-    let d = d - period.nearest(d);
-    let reach = (me.radius + other.radius) * factor;
-    if d.length_squared() < reach * reach {
+    if near(period, factor, me, other) {
         lists.push(me.id, other.id);
         lists.push(other.id, me.id);
     }
+}
+
+/// Whether the centres of `me` and `other` are within `factor` times their sum of radii
+/// (nearest image).
+#[inline]
+fn near(period: &Period, factor: Real, me: &Filed, other: &Filed) -> bool {
+    let d = me.centre - other.centre;
+    let d = d - period.nearest(d);
+    let reach = (me.radius + other.radius) * factor;
+    d.length_squared() < reach * reach
 }

@@ -11,6 +11,12 @@ pub(super) struct Lists {
     stride: usize,
     slots: Vec<u32>,
     total: usize,
+    /// Per sphere, the last stamp a relist gave it (see [`Lists::stamps`]), and the next
+    /// stamp to give.
+    stamp: Vec<u32>,
+    next_stamp: u32,
+    /// The row being relisted, as it was.
+    old: Vec<u32>,
 }
 
 impl Lists {
@@ -20,6 +26,9 @@ impl Lists {
             stride,
             slots: vec![0; spheres * stride],
             total: 0,
+            stamp: vec![0; spheres],
+            next_stamp: 1,
+            old: Vec::new(),
         }
     }
 
@@ -72,6 +81,52 @@ impl Lists {
             self.slots[at] -= 1;
             self.total -= 1;
         }
+    }
+
+    /// Starts relisting `i`: keeps its row as it was and stamps each sphere on it `was`;
+    /// [`Lists::restamp`] then stamps those found again `kept`. Returns `(was, kept)`.
+    pub(super) fn stamps(&mut self, i: u32) -> (u32, u32) {
+        if self.next_stamp >= u32::MAX - 2 {
+            self.stamp.fill(0);
+            self.next_stamp = 1;
+        }
+        let (was, kept) = (self.next_stamp, self.next_stamp + 1);
+        self.next_stamp += 2;
+        let mut old = std::mem::take(&mut self.old);
+        old.clear();
+        old.extend_from_slice(self.of(i));
+        for &k in &old {
+            self.stamp[k as usize] = was;
+            // Its row is written below if it leaves.
+            self.prefetch(k);
+        }
+        self.old = old;
+        (was, kept)
+    }
+
+    /// Whether `other` was on the row being relisted (stamped `was`): if so, it is stamped
+    /// `kept` and its own row stays as it is.
+    #[inline]
+    pub(super) fn restamp(&mut self, other: u32, was: u32, kept: u32) -> bool {
+        let s = &mut self.stamp[other as usize];
+        if *s == was {
+            *s = kept;
+            true
+        } else {
+            false
+        }
+    }
+
+    /// Ends relisting `i`: the spheres on its old row that were not found again (still
+    /// stamped `was`) lose it from their rows.
+    pub(super) fn drop_left(&mut self, i: u32, was: u32) {
+        let old = std::mem::take(&mut self.old);
+        for &k in &old {
+            if self.stamp[k as usize] == was {
+                self.remove(k, i);
+            }
+        }
+        self.old = old;
     }
 
     pub(super) fn clear(&mut self, i: u32) {
