@@ -470,11 +470,16 @@ fn typical_move(boxes: &[Option<(Aabb, Vec3)>], sample: &mut Vec<Real>) -> Vec3 
 /// step, overlap at some moment of it (touching counts; a little more, for the rounding).
 fn meet_within_step(((alo, ahi), da): (Aabb, Vec3), ((blo, bhi), db): (Aabb, Vec3)) -> bool {
     let d = da - db;
+    // a.lo + d t <= b.hi and b.lo <= a.hi + d t, on each axis.
+    let tol = 1e-9 * (alo.abs() + ahi.abs() + blo.abs() + bhi.abs() + d.abs());
+    let (upper, lower) = (bhi - alo + tol, blo - ahi - tol);
+    // Most candidates overlap as the step starts: no division.
+    if upper.cmpge(Vec3::ZERO).all() && lower.cmple(Vec3::ZERO).all() {
+        return true;
+    }
     let (mut t0, mut t1): (Real, Real) = (0.0, 1.0);
     for k in 0..3 {
-        let tol = 1e-9 * (alo[k].abs() + ahi[k].abs() + blo[k].abs() + bhi[k].abs() + d[k].abs());
-        // a.lo + d t <= b.hi and b.lo <= a.hi + d t.
-        let (upper, lower) = (bhi[k] - alo[k] + tol, blo[k] - ahi[k] - tol);
+        let (upper, lower) = (upper[k], lower[k]);
         if d[k] == 0.0 {
             if upper < 0.0 || lower > 0.0 {
                 return false;
