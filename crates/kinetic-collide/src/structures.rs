@@ -115,8 +115,7 @@ impl From<Choice> for StructureName {
 /// ([`kinetic_flight::brute_force_pays`]: a few dozen objects, or a few hundred flying far
 /// without bouncing; where the box structure is the grid, its crossings are of its cells,
 /// [`kinetic_flight::grid_crossing_share`], and where it is the sweep, the box ends it
-/// passes, [`passes`]) gets the brute force. Every other scene gets the
-/// flight structure of
+/// passes, [`passes`]) gets the brute force. Every other scene gets the flight structure of
 /// [`kinetic_flight::for_flights`] for the spread of its sizes (largest over smallest outer
 /// radius) and whether its objects barely move: the loose grid, the grid or the sweep. Plane
 /// worlds are held by the same box structures (a rolling ball's disc holds its contacts).
@@ -178,7 +177,9 @@ pub fn crossings(scene: &Scene) -> f64 {
 /// world, two on a plane): each object's travel along an axis times the density of box ends
 /// there, `2 n` over the extent of the objects' starts grown by their mean diameter. What the
 /// sweep pays for in swaps of its sorted lists, whatever the objects' sizes (measured 1.1 to
-/// 1.5 swaps a pass on the choice family).
+/// 1.5 swaps a pass on the choice family). Zero where it cannot be told (starts and sizes
+/// that leave no extent): the cost model then takes a box structure, which never costs
+/// quadratic memory.
 pub fn passes(scene: &Scene) -> f64 {
     let n = scene.objects.len();
     if n == 0 {
@@ -205,7 +206,7 @@ pub fn passes(scene: &Scene) -> f64 {
             (0..axes).map(|k| travel[k].abs() * density(k)).sum::<f64>()
         })
         .sum();
-    if p.is_finite() { p } else { f64::MAX }
+    if p.is_finite() { p } else { 0.0 }
 }
 
 /// About how many contacts the objects make over the horizon: each object's travel through
