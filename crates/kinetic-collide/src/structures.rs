@@ -187,10 +187,7 @@ pub fn passes(scene: &Scene) -> f64 {
     }
     let h = scene.horizon;
     let mean = radii(scene).sum::<f64>() / n as f64;
-    let (lo, hi) = scene.objects.iter().fold(
-        (glam::DVec3::INFINITY, glam::DVec3::NEG_INFINITY),
-        |(lo, hi), o| (lo.min(o.position), hi.max(o.position)),
-    );
+    let (lo, hi) = starts_box(scene);
     let extent = (hi - lo) + glam::DVec3::splat(2.0 * mean);
     let axes = if scene.world == WorldKind::Plane {
         2
@@ -209,6 +206,14 @@ pub fn passes(scene: &Scene) -> f64 {
     if p.is_finite() { p } else { 0.0 }
 }
 
+/// The box of the objects' starts (their positions at t = 0).
+fn starts_box(scene: &Scene) -> (glam::DVec3, glam::DVec3) {
+    scene.objects.iter().fold(
+        (glam::DVec3::INFINITY, glam::DVec3::NEG_INFINITY),
+        |(lo, hi), o| (lo.min(o.position), hi.max(o.position)),
+    )
+}
+
 /// About how many contacts the objects make over the horizon: each object's travel through
 /// the others as if they stood still, `pi (r_i + r_j)^2` of space swept per unit of travel for
 /// each other object `j` (in a plane world the discs' `2 (r_i + r_j)` of area), over the
@@ -222,11 +227,8 @@ pub fn contacts(scene: &Scene) -> f64 {
     let (lo, hi) = match scene.walls {
         Some(w) => (w.min, w.max),
         None => {
-            let r = scene.objects.iter().map(radius).fold(0.0, f64::max);
-            let (lo, hi) = scene.objects.iter().fold(
-                (glam::DVec3::INFINITY, glam::DVec3::NEG_INFINITY),
-                |(lo, hi), o| (lo.min(o.position), hi.max(o.position)),
-            );
+            let r = radii(scene).fold(0.0, f64::max);
+            let (lo, hi) = starts_box(scene);
             (lo - glam::DVec3::splat(r), hi + glam::DVec3::splat(r))
         }
     };
