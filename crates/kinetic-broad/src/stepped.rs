@@ -69,6 +69,8 @@ pub(crate) struct SteppedGrid {
     dense: Option<([i64; 3], [i64; 3])>,
     /// Per slot, where its boxes start in `sorted` (and one past the last slot).
     starts: Vec<u32>,
+    /// The slots that hold boxes (the only ones whose runs are looked at).
+    occupied: Vec<u32>,
     /// The small boxes' slots, then the small boxes (and their places) by slot.
     slots: Vec<(u32, u32)>,
     sorted: Vec<(Small, u32)>,
@@ -219,8 +221,13 @@ impl SteppedGrid {
         // Counting sort by slot.
         self.starts.clear();
         self.starts.resize(len + 1, 0);
+        self.occupied.clear();
         for &(s, _) in &self.slots {
-            self.starts[s as usize + 1] += 1;
+            let count = &mut self.starts[s as usize + 1];
+            if *count == 0 {
+                self.occupied.push(s);
+            }
+            *count += 1;
         }
         for s in 0..len {
             self.starts[s + 1] += self.starts[s];
@@ -249,11 +256,8 @@ impl SteppedGrid {
             // cell, then three rows of three (slots past a row's end only add tests).
             Some((_, n)) => {
                 let (row, slab) = (n[2], n[1] * n[2]);
-                for s in 0..len as u32 {
+                for &s in &self.occupied {
                     let run = self.run(s);
-                    if run.is_empty() {
-                        continue;
-                    }
                     let t = s as i64;
                     let from = [
                         t + 1,
@@ -276,7 +280,7 @@ impl SteppedGrid {
                 }
             }
             None => {
-                for s in 0..len as u32 {
+                for &s in &self.occupied {
                     let run = self.run(s);
                     for (k, (a, i)) in run.iter().enumerate() {
                         test(a, *i, &run[k + 1..], out);

@@ -1,6 +1,6 @@
 //! rapier 0.27's step with its default broad phase and with the kinetic one, side by side in
 //! one run, on the standard scenes (`kinetic_scenes::engines::standard`: pile, rain, gas,
-//! debris, asleep, kinematic): whole step, broad-phase time (rapier's own counters) and pairs
+//! debris, burst, asleep, kinematic): whole step, broad-phase time (rapier's own counters) and pairs
 //! handed to the narrow phase.
 //!
 //! `cargo bench -p kinetic-rapier --bench rapier -- [N...] [--steps S] [--scenes pile,rain]

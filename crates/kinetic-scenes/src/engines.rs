@@ -1,7 +1,8 @@
 //! Scenes for physics engines (rapier, avian), engine-neutral, built from a seed: the kinds
 //! the engines' own benches use (a pile, a rain, a ball gas in a box, drifting debris, a
-//! mostly sleeping world, many kinematic bodies). The `rapier` and `avian` modules put them
-//! into each engine, so both adapters' benches and examples run the very same scenes.
+//! burst flying apart, a mostly sleeping world, many kinematic bodies). The `rapier` and
+//! `avian` modules put them into each engine, so both adapters' benches and examples run the
+//! very same scenes.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -283,14 +284,39 @@ pub fn kinematic(n: usize, seed: u64) -> EngineScene {
     scene(pieces, 0.0)
 }
 
-/// The scene of `kind` (`pile`, `rain`, `gas`, `debris`, `asleep`, `kinematic`) with `n`
-/// bodies, from the seed each bench uses.
+/// A burst in free fall (no gravity, no ground): `n` spinning balls and boxes of radius 0.1
+/// to 0.3 packed in a cube (about one per 1.7 cubic units) and flying apart, each at up to 2
+/// units per second outwards by where it starts, give or take 0.2 on each axis. None sleeps.
+pub fn burst(n: usize, seed: u64) -> EngineScene {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let half = (n as f32).cbrt() * 0.6;
+    let pieces = (0..n)
+        .map(|k| {
+            let r = rng.random_range(0.1f32..0.3);
+            let position = draw3(&mut rng, half);
+            let jitter = draw3(&mut rng, 0.2);
+            let velocity = std::array::from_fn(|a| 2.0 * position[a] / half + jitter[a]);
+            let spin = draw3(&mut rng, 2.0);
+            Piece {
+                velocity,
+                spin,
+                can_sleep: false,
+                ..Piece::dynamic(ball_or_box(k, 2, r, [1.0, 0.7, 0.8]), position)
+            }
+        })
+        .collect();
+    scene(pieces, 0.0)
+}
+
+/// The scene of `kind` (`pile`, `rain`, `gas`, `debris`, `burst`, `asleep`, `kinematic`) with
+/// `n` bodies, from the seed each bench uses.
 pub fn standard(kind: &str, n: usize) -> Option<EngineScene> {
     Some(match kind {
         "pile" => pile(n, 5),
         "rain" => rain(n, (n / 400).max(3), 7),
         "gas" => gas(n, 3),
         "debris" => debris(n, 1),
+        "burst" => burst(n, 17),
         "asleep" => asleep(n, 11),
         "kinematic" => kinematic(n, 13),
         _ => return None,
@@ -298,7 +324,15 @@ pub fn standard(kind: &str, n: usize) -> Option<EngineScene> {
 }
 
 /// The standard scenes' kinds, in the benches' order.
-pub const STANDARD: [&str; 6] = ["pile", "rain", "gas", "debris", "asleep", "kinematic"];
+pub const STANDARD: [&str; 7] = [
+    "pile",
+    "rain",
+    "gas",
+    "debris",
+    "burst",
+    "asleep",
+    "kinematic",
+];
 
 #[cfg(test)]
 mod tests {

@@ -27,6 +27,7 @@ impl BroadPhaseCore {
             held: 0,
             movers: Vec::new(),
             moved_bits: Vec::new(),
+            states: Vec::new(),
             motions: ByBody::default(),
             moving: Vec::new(),
             grown: Vec::new(),

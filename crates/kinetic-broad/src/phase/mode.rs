@@ -29,7 +29,7 @@
 //! and deletes for the difference, and back to the kinetic book, which adopts those it holds
 //! and deletes the others.
 
-use super::BroadPhaseCore;
+use super::{BroadPhaseCore, REGION_MARGIN, REGION_STEPS};
 use crate::stepped::{Aabb, SteppedGrid};
 use crate::{Engine, Hold, PairEvent};
 use kinetic_core::{Real, Vec3};
@@ -55,7 +55,7 @@ const MOST_CALM_COUNTS: u32 = 16;
 /// ... this many steps.
 const SHORT_STRETCH: u64 = 120;
 /// The typical move of the boxes is taken from at most this many of them.
-const SAMPLE: usize = 1024;
+const SAMPLE: usize = 256;
 /// Steps between two switches at least.
 const DWELL: u64 = 8;
 
@@ -84,6 +84,9 @@ pub(super) struct Stepped {
     /// The pairs gone and new in this call.
     gone: Vec<(u32, u32)>,
     new: Vec<(u32, u32)>,
+    /// The loose grid's re-anchors an update would take for the boxes' moves, as last
+    /// worked out (on the updates that count re-plans).
+    anchors: Real,
 }
 
 /// What decides the mode.
@@ -206,8 +209,10 @@ impl BroadPhaseCore {
             if m.last_cost > 0.0 {
                 m.last_cost * (replans + 1.0) / (m.last_replans + 1.0)
             } else {
-                // No kinetic stretch yet: an event for each re-plan.
-                2.0 * OP_COST * replans
+                // No kinetic stretch yet: an event for each re-plan, and the re-anchors of
+                // the bodies' flight.
+                let anchors = self.stepped.as_ref().map_or(0.0, |st| st.anchors);
+                OP_COST * (2.0 * replans + anchors)
             }
         } else {
             OP_COST * (self.step.replans + self.step.events) as Real
@@ -375,6 +380,9 @@ impl BroadPhaseCore {
         }
         st.pending = pending;
         st.pending.clear();
+        if st.counting() {
+            st.anchors = anchors(&st.boxes);
+        }
         // Of the pairs whose swept boxes overlap, those whose boxes meet as they move: two
         // bodies falling side by side are not a pair.
         // Two boxes meet as they move in any frame that moves steadily: the boxes are swept
@@ -443,6 +451,22 @@ impl BroadPhaseCore {
     }
 }
 
+/// The re-anchors a step of the loose grid would take for boxes moving as `boxes` do: a
+/// body's region covers [`REGION_STEPS`] steps of its flight and [`REGION_MARGIN`] of its
+/// width on every side, so a box moving `d` a step is re-anchored every
+/// `REGION_STEPS + margin / |d|` steps (a body at rest, never).
+fn anchors(boxes: &[Option<(Aabb, Vec3)>]) -> Real {
+    boxes
+        .iter()
+        .flatten()
+        .map(|((lo, hi), d)| {
+            let (d, margin) = (d.length(), REGION_MARGIN * (*hi - *lo).max_element());
+            let a = d / (REGION_STEPS * d + margin);
+            if a.is_finite() { a } else { 0.0 }
+        })
+        .sum()
+}
+
 /// The median move of the boxes `boxes` over the step, axis by axis, from at most
 /// [`SAMPLE`] of them evenly spaced.
 fn typical_move(boxes: &[Option<(Aabb, Vec3)>], sample: &mut Vec<Real>) -> Vec3 {
@@ -500,6 +524,19 @@ mod tests {
 
     fn unit(at: Vec3) -> Aabb {
         (at, at + Vec3::ONE)
+    }
+
+    #[test]
+    fn a_box_is_re_anchored_by_how_far_it_moves_against_its_region() {
+        let b = (unit(Vec3::ZERO), Vec3::ZERO);
+        assert_eq!(anchors(&[Some(b), None]), 0.0);
+        // Moving its margin's worth a step: once in REGION_STEPS + 1 steps.
+        let d = Vec3::new(0.0, REGION_MARGIN, 0.0);
+        let once = anchors(&[Some((unit(Vec3::ZERO), d))]);
+        assert!((once - 1.0 / (REGION_STEPS + 1.0)).abs() < 1e-12, "{once}");
+        // Fast: at most once a REGION_STEPS steps each; two boxes, twice one.
+        let fast = anchors(&[Some((unit(Vec3::ZERO), d * 1e6)); 2]);
+        assert!(fast < 2.0 / REGION_STEPS && fast > 1.99 / REGION_STEPS, "{fast}");
     }
 
     #[test]

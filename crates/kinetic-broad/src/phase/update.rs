@@ -114,14 +114,19 @@ impl BroadPhaseCore {
                 moved.push(b);
             }
         }
-        for &b in &moved {
+        // The engine's states first, in one pass: reads of bodies scattered through the
+        // engine's memory overlap when nothing else sits between them.
+        let mut states = std::mem::take(&mut self.states);
+        states.clear();
+        states.extend(moved.iter().map(|&b| engine.body(b)));
+        for (&b, &state) in moved.iter().zip(&states) {
             let Some(m) = self.motions.get_mut(b) else {
                 continue;
             };
             if m.seen == update && !starts_step {
                 continue;
             }
-            let Some(rb) = engine.body(b) else { continue };
+            let Some(rb) = state else { continue };
             let v = rb.velocity;
             if !starts_step {
                 if m.seen.wrapping_add(1) == update {
@@ -169,6 +174,7 @@ impl BroadPhaseCore {
                 seen_moving += 1;
             }
         }
+        self.states = states;
         let changed = !new.is_empty() || !removed_colliders.is_empty();
         self.install(&new, engine, step, update);
 
