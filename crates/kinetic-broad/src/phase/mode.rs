@@ -536,7 +536,10 @@ mod tests {
         assert!((once - 1.0 / (REGION_STEPS + 1.0)).abs() < 1e-12, "{once}");
         // Fast: at most once a REGION_STEPS steps each; two boxes, twice one.
         let fast = anchors(&[Some((unit(Vec3::ZERO), d * 1e6)); 2]);
-        assert!(fast < 2.0 / REGION_STEPS && fast > 1.99 / REGION_STEPS, "{fast}");
+        assert!(
+            fast < 2.0 / REGION_STEPS && fast > 1.99 / REGION_STEPS,
+            "{fast}"
+        );
     }
 
     #[test]
