@@ -87,6 +87,17 @@ fn ball_or_box(k: usize, every: usize, r: f32, box_shape: [f32; 3]) -> PieceShap
     }
 }
 
+/// Piece `k` of a free-flying scene: a ball of radius `r` or (every second one) a box, set
+/// moving and spinning, never asleep.
+fn spinning(k: usize, r: f32, position: [f32; 3], velocity: [f32; 3], spin: [f32; 3]) -> Piece {
+    Piece {
+        velocity,
+        spin,
+        can_sleep: false,
+        ..Piece::dynamic(ball_or_box(k, 2, r, [1.0, 0.7, 0.8]), position)
+    }
+}
+
 /// The scene of `pieces` under gravity `gy` along the y axis.
 fn scene(pieces: Vec<Piece>, gy: f32) -> EngineScene {
     EngineScene {
@@ -172,12 +183,7 @@ pub fn debris(n: usize, seed: u64) -> EngineScene {
             let position = draw3(&mut rng, half);
             let velocity = draw3(&mut rng, 1.0);
             let spin = draw3(&mut rng, 1.0);
-            Piece {
-                velocity,
-                spin,
-                can_sleep: false,
-                ..Piece::dynamic(ball_or_box(k, 2, r, [1.0, 0.7, 0.8]), position)
-            }
+            spinning(k, r, position, velocity, spin)
         })
         .collect();
     scene(pieces, 0.0)
@@ -297,12 +303,7 @@ pub fn burst(n: usize, seed: u64) -> EngineScene {
             let jitter = draw3(&mut rng, 0.2);
             let velocity = std::array::from_fn(|a| 2.0 * position[a] / half + jitter[a]);
             let spin = draw3(&mut rng, 2.0);
-            Piece {
-                velocity,
-                spin,
-                can_sleep: false,
-                ..Piece::dynamic(ball_or_box(k, 2, r, [1.0, 0.7, 0.8]), position)
-            }
+            spinning(k, r, position, velocity, spin)
         })
         .collect();
     scene(pieces, 0.0)
