@@ -229,8 +229,11 @@ impl SteppedGrid {
             }
             *count += 1;
         }
-        for s in 0..len {
-            self.starts[s + 1] += self.starts[s];
+        // Summed in a register: each slot's count is read once, not reloaded as just stored.
+        let mut sum = 0;
+        for start in &mut self.starts {
+            sum += *start;
+            *start = sum;
         }
         // Every place is written below: no need to clear it first.
         self.sorted.resize(self.slots.len(), ([Vec3A::ZERO; 2], 0));
