@@ -49,6 +49,12 @@ pub trait Engine {
     fn collider(&self, c: Key, slack: Slack) -> Seen;
     /// Body `b`'s state, or `None` if the engine has no such body.
     fn body(&self, b: Key) -> Option<BodyState>;
+    /// Body `b`'s centre of mass and linear velocity, as [`Engine::body`] gives them: all a
+    /// position update reads of each moved body. An engine may read them from less of its
+    /// memory than the whole state.
+    fn motion(&self, b: Key) -> Option<(Vec3, Vec3)> {
+        self.body(b).map(|s| (s.centre, s.velocity))
+    }
     /// Collider `c`'s axis-aligned box now, `(min, max)`, grown by the same margins as its
     /// [`Hold`]. An engine that gives it lets bodies in contact be held by fat boxes (see
     /// the crate docs); the default, `None`, keeps every moving body on a flight plan.

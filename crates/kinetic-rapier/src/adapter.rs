@@ -117,6 +117,13 @@ impl Engine for Rapier<'_> {
         Some((dpoint(&aabb.mins) - m, dpoint(&aabb.maxs) + m))
     }
 
+    fn motion(&self, b: Key) -> Option<(Vec3, Vec3)> {
+        let rb = self
+            .bodies
+            .get(RigidBodyHandle::from_raw_parts(b.index, b.generation))?;
+        Some((centre_of_mass(rb), dvec(rb.linvel())))
+    }
+
     fn body(&self, b: Key) -> Option<BodyState> {
         let rb = self
             .bodies

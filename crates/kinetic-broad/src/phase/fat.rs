@@ -12,7 +12,7 @@
 //! An engine that gives no boxes ([`Engine::bounds`]) keeps every body on its plan.
 
 use super::{BroadPhaseCore, Motion};
-use crate::{BodyState, Engine, Hold, Key};
+use crate::{Engine, Hold, Key};
 use kinetic_core::{Real, Vec3};
 
 /// A fat box is grown by this share of its collider's box half-width on every side.
@@ -65,7 +65,7 @@ impl BroadPhaseCore {
     /// Holds body `b` (in state `rb`) as its plan, just fitted, calls for: by fresh fat boxes
     /// when the plan is at rest and the engine gives boxes, else by the balls of its holds on
     /// the plan (`resized`: with a new slack).
-    pub(super) fn hold(&mut self, engine: &impl Engine, b: Key, rb: &BodyState, resized: bool) {
+    pub(super) fn hold(&mut self, engine: &impl Engine, b: Key, velocity: Vec3, resized: bool) {
         if self.is_stepped() {
             // A stepped world keeps the plans only to price a kinetic step: no proxy to move.
             self.stats.replans += 1;
@@ -73,7 +73,7 @@ impl BroadPhaseCore {
             return;
         }
         if self.motions[b].at_rest()
-            && let Some(boxes) = self.fat_boxes(engine, b, rb.velocity)
+            && let Some(boxes) = self.fat_boxes(engine, b, velocity)
         {
             self.motions.get_mut(b).expect("a motion").fat = true;
             self.stats.boxed += 1;

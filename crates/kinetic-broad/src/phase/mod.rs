@@ -21,7 +21,7 @@ pub use stats::{BroadPhaseStats, StepStats};
 
 use crate::motions::ByBody;
 use crate::pairs::{PairBook, PairOut};
-use crate::{BodyState, Hold, Key, Slack};
+use crate::{Hold, Key, Slack};
 use kinetic_core::kds::PairChange;
 use kinetic_core::{Body, CandidateStructure, FlightPlan, Real, Vec3};
 use kinetic_flight::Choice;
@@ -135,8 +135,9 @@ pub struct BroadPhaseCore {
     /// The bodies moved in this position update, a bit per body index: they are looked at
     /// in index order, each once, whatever order the engine lists their colliders in.
     moved_bits: Vec<u64>,
-    /// The moved bodies' states as the engine gave them in the last update (a buffer).
-    states: Vec<Option<BodyState>>,
+    /// The moved bodies' centres and velocities as the engine gave them in the last update
+    /// (a buffer).
+    states: Vec<Option<(Vec3, Vec3)>>,
     motions: ByBody<Motion>,
     /// Bodies whose plans are not at rest, in the order they started moving.
     moving: Vec<Key>,

@@ -118,7 +118,7 @@ impl BroadPhaseCore {
         // engine's memory overlap when nothing else sits between them.
         let mut states = std::mem::take(&mut self.states);
         states.clear();
-        states.extend(moved.iter().map(|&b| engine.body(b)));
+        states.extend(moved.iter().map(|&b| engine.motion(b)));
         for (&b, &state) in moved.iter().zip(&states) {
             let Some(m) = self.motions.get_mut(b) else {
                 continue;
@@ -126,8 +126,7 @@ impl BroadPhaseCore {
             if m.seen == update && !starts_step {
                 continue;
             }
-            let Some(rb) = state else { continue };
-            let v = rb.velocity;
+            let Some((centre, v)) = state else { continue };
             if !starts_step {
                 if m.seen.wrapping_add(1) == update {
                     let a = (v - m.last_v) / dt;
@@ -156,7 +155,7 @@ impl BroadPhaseCore {
             let kept = if m.fat {
                 self.keeps_boxes(engine, b, v, step_dt)
             } else {
-                m.keeps_plan(rb.centre, v, self.clock.pos, step_dt, substeps)
+                m.keeps_plan(centre, v, self.clock.pos, step_dt, substeps)
             };
             if kept {
                 let m = &self.motions[b];
@@ -164,7 +163,7 @@ impl BroadPhaseCore {
                 continue;
             }
             if let Some(resized) = self.refit(b, engine, step, false) {
-                self.hold(engine, b, &rb, resized);
+                self.hold(engine, b, v, resized);
             }
             if self
                 .motions
@@ -194,7 +193,7 @@ impl BroadPhaseCore {
                     m.listed = false;
                     m.last_a = None;
                     self.moving.swap_remove(k);
-                    self.hold(engine, b, &state, false);
+                    self.hold(engine, b, state.velocity, false);
                 } else {
                     k += 1;
                 }
