@@ -52,6 +52,14 @@ impl<T> ByBody<T> {
         self.get(h).is_some()
     }
 
+    /// Room for records up to index `last`, made at once (a bulk of new bodies).
+    pub(crate) fn reach(&mut self, last: usize) {
+        if self.keys.len() <= last {
+            self.keys.resize(last + 1, None);
+            self.values.resize_with(last + 1, || None);
+        }
+    }
+
     /// The record of `h`, made by `make` if it has none (a stale one is replaced).
     pub(crate) fn get_or_insert_with(&mut self, h: Key, make: impl FnOnce() -> T) -> &mut T {
         let i = index(h);

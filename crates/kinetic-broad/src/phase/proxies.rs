@@ -171,6 +171,17 @@ impl BroadPhaseCore {
                 self.structure = Some(new_structure(self.structure_choice(), step.dt));
             }
         }
+        // The tables grown once for the bulk, not copied over as they double.
+        if let Some(last) = holds.iter().map(|(h, _)| h.index).max() {
+            self.grow_slots(last);
+        }
+        let bodies = holds.iter().filter_map(|(_, hold)| match hold {
+            Hold::Moving { body, .. } => Some(body.index as usize),
+            Hold::Fixed { .. } => None,
+        });
+        if let Some(last) = bodies.max() {
+            self.motions.reach(last);
+        }
         // Plans first: a body seen for the first time gets a plan fitted to its state now; a
         // body already moving keeps its plan for the collider it gains.
         for &(h, hold) in &holds {
