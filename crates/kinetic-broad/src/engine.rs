@@ -55,6 +55,13 @@ pub trait Engine {
     fn motion(&self, b: Key) -> Option<(Vec3, Vec3)> {
         self.body(b).map(|s| (s.centre, s.velocity))
     }
+    /// [`Engine::motion`] of each of `bodies`, in order, pushed onto `out`: all a position
+    /// update reads of the engine's bodies, in one pass. An engine may ask for the bodies a
+    /// few ahead of the one it reads ([`kinetic_core::prefetch`]), so that their reads
+    /// overlap.
+    fn motions(&self, bodies: &[Key], out: &mut Vec<Option<(Vec3, Vec3)>>) {
+        out.extend(bodies.iter().map(|&b| self.motion(b)));
+    }
     /// Collider `c`'s axis-aligned box now, `(min, max)`, grown by the same margins as its
     /// [`Hold`]. An engine that gives it lets bodies in contact be held by fat boxes (see
     /// the crate docs); the default, `None`, keeps every moving body on a flight plan.

@@ -43,6 +43,13 @@ impl<T> ByBody<T> {
         }
     }
 
+    /// Asks for the memory of `h`'s record, to be read soon.
+    pub(crate) fn prefetch(&self, h: Key) {
+        if let Some(slot) = self.values.get(index(h)) {
+            kinetic_core::prefetch_all(slot);
+        }
+    }
+
     /// The key of the body whose record is at index `i`, if any.
     pub(crate) fn key_at(&self, i: usize) -> Option<Key> {
         *self.keys.get(i)?

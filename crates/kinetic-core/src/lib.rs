@@ -37,6 +37,7 @@ pub use body::{Body, Shape};
 pub use brute_force::BruteForce;
 pub use math::{Quat, Real, Vec3};
 pub use plan::FlightPlan;
+pub use prefetch::{prefetch, prefetch_all};
 pub use structure::CandidateStructure;
 pub use world::step::StepKind;
 pub use world::{

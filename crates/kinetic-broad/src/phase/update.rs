@@ -118,8 +118,11 @@ impl BroadPhaseCore {
         // engine's memory overlap when nothing else sits between them.
         let mut states = std::mem::take(&mut self.states);
         states.clear();
-        states.extend(moved.iter().map(|&b| engine.motion(b)));
-        for (&b, &state) in moved.iter().zip(&states) {
+        engine.motions(&moved, &mut states);
+        for (k, (&b, &state)) in moved.iter().zip(&states).enumerate() {
+            if let Some(&next) = moved.get(k + 4) {
+                self.motions.prefetch(next);
+            }
             let Some(m) = self.motions.get_mut(b) else {
                 continue;
             };
