@@ -134,8 +134,9 @@ impl BroadPhaseCore {
                 if m.seen.wrapping_add(1) == update {
                     let a = (v - m.last_v) / dt;
                     if let Some(prev) = m.last_a {
+                        // Equal most often (a body in free flight, unpushed): no roots.
                         let agree = |x: Vec3, y: Vec3| {
-                            (x - y).length() <= 1e-3 * x.length().max(y.length()) + 1e-3
+                            x == y || (x - y).length() <= 1e-3 * x.length().max(y.length()) + 1e-3
                         };
                         if agree(a, prev) {
                             m.steady_a = a;
