@@ -79,7 +79,7 @@ pub mod f64;
 
 #[cfg(feature = "f32")]
 pub use f32::KineticBroadPhase;
-pub use kinetic_broad::{BroadPhaseStats, StepStats};
+pub use kinetic_broad::{BroadPhaseStats, Choice, StepStats};
 /// The rapier this broad phase plugs into (0.27, f32), as its types appear here.
 #[cfg(feature = "f32")]
 pub use rapier3d;

@@ -6,15 +6,17 @@ use avian3d::collision::collider::contact_query;
 use avian3d::prelude::*;
 use bevy::prelude::*;
 use bevy::time::TimeUpdateStrategy;
-use kinetic_avian::{KineticBroadPhase, KineticBroadPhasePlugin};
+use kinetic_avian::{Choice, KineticBroadPhase, KineticBroadPhasePlugin};
 use std::collections::BTreeSet;
 use std::time::Duration;
 
-/// Which broad phase an app runs.
+/// Which broad phase an app runs: avian's, the plugin as it comes, or the plugin held to a
+/// kinetic structure (it then never steps).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Broad {
     Default,
     Kinetic,
+    Structure(Choice),
 }
 
 pub const HZ: f64 = 64.0;
@@ -31,6 +33,13 @@ pub fn app(broad: Broad) -> App {
             physics
                 .disable::<BvhBroadPhasePlugin>()
                 .add(KineticBroadPhasePlugin::new().with_audit()),
+        ),
+        Broad::Structure(choice) => app.add_plugins(
+            physics.disable::<BvhBroadPhasePlugin>().add(
+                KineticBroadPhasePlugin::new()
+                    .with_structure(choice)
+                    .with_audit(),
+            ),
         ),
     };
     app.insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(
