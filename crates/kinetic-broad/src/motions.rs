@@ -70,10 +70,7 @@ impl<T> ByBody<T> {
     /// The record of `h`, made by `make` if it has none (a stale one is replaced).
     pub(crate) fn get_or_insert_with(&mut self, h: Key, make: impl FnOnce() -> T) -> &mut T {
         let i = index(h);
-        if self.keys.len() <= i {
-            self.keys.resize(i + 1, None);
-            self.values.resize_with(i + 1, || None);
-        }
+        self.reach(i);
         if self.keys[i] != Some(h) {
             self.keys[i] = Some(h);
             self.values[i] = Some(make());

@@ -22,9 +22,10 @@ pub fn prefetch<T>(value: &T) {
 #[inline(always)]
 pub fn prefetch_all<T>(value: &T) {
     let start = std::ptr::from_ref(value).cast::<u8>();
-    let mut line = 0;
-    while line < std::mem::size_of::<T>() {
-        let at = start.wrapping_add(line);
+    // From the line the value starts in to the one it ends in (it need not start on one).
+    let end = start.addr() + std::mem::size_of::<T>();
+    let mut at = start.wrapping_sub(start.addr() % 64);
+    while at.addr() < end {
         #[cfg(target_arch = "x86_64")]
         // SAFETY: as in `prefetch`; the address lies within `value`, and a prefetch of any
         // address is harmless.
@@ -35,6 +36,6 @@ pub fn prefetch_all<T>(value: &T) {
         }
         #[cfg(not(target_arch = "x86_64"))]
         let _ = at;
-        line += 64;
+        at = at.wrapping_add(64);
     }
 }

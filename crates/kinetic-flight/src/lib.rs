@@ -70,6 +70,6 @@ pub use choose::{
 pub use cones::{Cone, ConeSet};
 pub use grid::Grid;
 pub use guards::{GuardGrid, Guards};
-pub use loose::LooseGrid;
+pub use loose::{LooseGrid, TRAVEL as LOOSE_TRAVEL};
 pub use shape::{ConvexShape, ShapeError, fatness};
 pub use sweep::Sweep;

@@ -97,6 +97,14 @@ fn hold_of(
     }
 }
 
+impl Rapier<'_> {
+    /// The rigid body of key `b`, if rapier has it.
+    fn rigid_body(&self, b: Key) -> Option<&RigidBody> {
+        self.bodies
+            .get(RigidBodyHandle::from_raw_parts(b.index, b.generation))
+    }
+}
+
 impl Engine for Rapier<'_> {
     fn collider(&self, c: Key, slack: Slack) -> Seen {
         let h = ColliderHandle::from_raw_parts(c.index, c.generation);
@@ -118,34 +126,27 @@ impl Engine for Rapier<'_> {
     }
 
     fn motion(&self, b: Key) -> Option<(Vec3, Vec3)> {
-        let rb = self
-            .bodies
-            .get(RigidBodyHandle::from_raw_parts(b.index, b.generation))?;
+        let rb = self.rigid_body(b)?;
         Some((centre_of_mass(rb), dvec(rb.linvel())))
     }
 
     fn motions(&self, bodies: &[Key], out: &mut Vec<Option<(Vec3, Vec3)>>) {
-        // Bodies lie hundreds of bytes apart in rapier's arena: the lines a body's centre
-        // and velocity are read from are asked for `AHEAD` bodies before it is read.
+        // Bodies lie hundreds of bytes apart in rapier's arena. The body `AHEAD` on is looked
+        // up (its arena entry read) and the lines its centre and velocity lie in asked for,
+        // so that they are on their way when it is read.
         const AHEAD: usize = 8;
-        let get = |b: Key| {
-            self.bodies
-                .get(RigidBodyHandle::from_raw_parts(b.index, b.generation))
-        };
         for (k, &b) in bodies.iter().enumerate() {
-            if let Some(rb) = bodies.get(k + AHEAD).and_then(|&next| get(next)) {
+            if let Some(rb) = bodies.get(k + AHEAD).and_then(|&next| self.rigid_body(next)) {
                 prefetch(rb.position());
                 prefetch(rb.local_center_of_mass());
                 prefetch(rb.linvel());
             }
-            out.push(get(b).map(|rb| (centre_of_mass(rb), dvec(rb.linvel()))));
+            out.push(self.motion(b));
         }
     }
 
     fn body(&self, b: Key) -> Option<BodyState> {
-        let rb = self
-            .bodies
-            .get(RigidBodyHandle::from_raw_parts(b.index, b.generation))?;
+        let rb = self.rigid_body(b)?;
         Some(BodyState {
             centre: centre_of_mass(rb),
             velocity: dvec(rb.linvel()),

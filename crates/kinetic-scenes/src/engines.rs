@@ -291,8 +291,9 @@ pub fn kinematic(n: usize, seed: u64) -> EngineScene {
 }
 
 /// A burst in free fall (no gravity, no ground): `n` spinning balls and boxes of radius 0.1
-/// to 0.3 packed in a cube (about one per 1.7 cubic units) and flying apart, each at up to 2
-/// units per second outwards by where it starts, give or take 0.2 on each axis. None sleeps.
+/// to 0.3 packed in a cube (about one per 1.7 cubic units) and flying apart, each outwards
+/// by where it starts, at up to 2 units per second on each axis, give or take 0.2. None
+/// sleeps.
 pub fn burst(n: usize, seed: u64) -> EngineScene {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let half = (n as f32).cbrt() * 0.6;

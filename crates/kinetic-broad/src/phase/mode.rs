@@ -16,7 +16,8 @@
 //! - stepped, a step costs [`BOX_COST`] per collider held;
 //! - stepped, the bodies' plans are kept on three position updates in [`PRICE_EVERY`] (no
 //!   structure to tell), and the third prices a kinetic step: the last kinetic stretch's
-//!   cost scaled by its re-plans to the re-plans now.
+//!   cost scaled by its re-plans to the re-plans now; before any kinetic stretch, an event
+//!   for each re-plan and the loose grid's re-anchors for the boxes' moves.
 //!
 //! The world steps once the kinetic cost is above the stepped one, and goes back after
 //! [`CALM_COUNTS`] prices running below [`BACK`] of it (more after kinetic stretches that did
@@ -33,7 +34,7 @@ use super::{BroadPhaseCore, REGION_MARGIN, REGION_STEPS};
 use crate::stepped::{Aabb, SteppedGrid};
 use crate::{Engine, Hold, PairEvent};
 use kinetic_core::{Real, Vec3};
-use kinetic_flight::Choice;
+use kinetic_flight::{Choice, LOOSE_TRAVEL};
 
 /// The kinetic cost of a re-plan or an event, in units of one collider filed by the stepped
 /// grid (measured on the rapier bench's pile, rain and gas at 1e3 and 1e4 bodies).
@@ -451,17 +452,19 @@ impl BroadPhaseCore {
     }
 }
 
-/// The re-anchors a step of the loose grid would take for boxes moving as `boxes` do: a
-/// body's region covers [`REGION_STEPS`] steps of its flight and [`REGION_MARGIN`] of its
-/// width on every side, so a box moving `d` a step is re-anchored every
-/// `REGION_STEPS + margin / |d|` steps (a body at rest, never).
+/// The re-anchors a step of the loose grid would take for boxes moving as `boxes` do. A
+/// body's region covers its flight over [`LOOSE_TRAVEL`] of its widths, but at least a step
+/// and at most [`REGION_STEPS`], and [`REGION_MARGIN`] of its width on every side: a box `w`
+/// wide moving `d` a step covers `h = clamp(2 w / |d|, 1, REGION_STEPS)` steps and is
+/// re-anchored every `h + 0.1 w / |d|` steps (a body at rest, never).
 fn anchors(boxes: &[Option<(Aabb, Vec3)>]) -> Real {
     boxes
         .iter()
         .flatten()
         .map(|((lo, hi), d)| {
-            let (d, margin) = (d.length(), REGION_MARGIN * (*hi - *lo).max_element());
-            let a = d / (REGION_STEPS * d + margin);
+            let (d, w) = (d.length(), (*hi - *lo).max_element());
+            let h = (LOOSE_TRAVEL * w / d).clamp(1.0, REGION_STEPS);
+            let a = d / (h * d + REGION_MARGIN * w);
             if a.is_finite() { a } else { 0.0 }
         })
         .sum()
@@ -530,16 +533,19 @@ mod tests {
     fn a_box_is_re_anchored_by_how_far_it_moves_against_its_region() {
         let b = (unit(Vec3::ZERO), Vec3::ZERO);
         assert_eq!(anchors(&[Some(b), None]), 0.0);
-        // Moving its margin's worth a step: once in REGION_STEPS + 1 steps.
+        // Slow, moving its margin's worth a step: its region covers REGION_STEPS steps, so
+        // once in REGION_STEPS + 1 steps.
         let d = Vec3::new(0.0, REGION_MARGIN, 0.0);
         let once = anchors(&[Some((unit(Vec3::ZERO), d))]);
         assert!((once - 1.0 / (REGION_STEPS + 1.0)).abs() < 1e-12, "{once}");
-        // Fast: at most once a REGION_STEPS steps each; two boxes, twice one.
+        // Its width a step: the region covers its travel of LOOSE_TRAVEL widths.
+        let width = anchors(&[Some((unit(Vec3::ZERO), Vec3::X))]);
+        let want = 1.0 / (LOOSE_TRAVEL + REGION_MARGIN);
+        assert!((width - want).abs() < 1e-12, "{width}");
+        // Fast: a region covers a step at least, so about once a step each; two boxes,
+        // twice one.
         let fast = anchors(&[Some((unit(Vec3::ZERO), d * 1e6)); 2]);
-        assert!(
-            fast < 2.0 / REGION_STEPS && fast > 1.99 / REGION_STEPS,
-            "{fast}"
-        );
+        assert!(fast < 2.0 && fast > 1.99, "{fast}");
     }
 
     #[test]

@@ -44,7 +44,7 @@ use kinetic_core::{Real, Vec3};
 use rustc_hash::FxHashMap;
 
 /// A region stretches over the travel of this many box widths by default...
-const TRAVEL: Real = 2.0;
+pub const TRAVEL: Real = 2.0;
 /// ... and is wider than the swept box by this many box widths on every side.
 const MARGIN: Real = 0.25;
 /// A region is filed in the cells it covers when it covers at most this many on every axis
