@@ -62,9 +62,9 @@ impl BroadPhaseCore {
         })
     }
 
-    /// Holds body `b` (moving at `velocity`) as its plan, just fitted, calls for: by fresh fat boxes
-    /// when the plan is at rest and the engine gives boxes, else by the balls of its holds on
-    /// the plan (`resized`: with a new slack).
+    /// Holds body `b` (moving at `velocity`) as its plan, just fitted, calls for: by fresh
+    /// fat boxes when the plan is at rest and the engine gives boxes, else by the balls of its
+    /// holds on the plan (`resized`: with a new slack).
     pub(super) fn hold(&mut self, engine: &impl Engine, b: Key, velocity: Vec3, resized: bool) {
         if self.is_stepped() {
             // A stepped world keeps the plans only to price a kinetic step: no proxy to move.
