@@ -108,7 +108,7 @@ fn child(system: System, collisions: f64) -> Result<(), String> {
     let mut done = 0.0;
     while done < collisions {
         let ahead = ((collisions - done) / per_unit).max(1e-3);
-        gas.advance_to(gas.now() + ahead.min(1.0))
+        gas.advance_to(gas.now() + ahead.min(0.02))
             .map_err(|e| e.to_string())?;
         gas.drain_events();
         done = gas

@@ -3,6 +3,7 @@
 
 use super::calendar::Calendar;
 use super::lists::{CentreGrid, Filed, Lists};
+use super::spare::Spare;
 use super::{NEIGHBOURS, Period, PeriodicBox, PeriodicSpheres, SHELL, SLACK};
 use crate::math::{Real, Vec3};
 use crate::plan::FlightPlan;
@@ -139,6 +140,7 @@ impl PeriodicSpheres {
             lists: Lists::new(n, 16),
             grid,
             queue: Calendar::new(n, 1.0, 1, 0.0),
+            spares: vec![Spare::NONE; n],
             skips: FxHashMap::default(),
             events: Vec::new(),
             stats: Stats::default(),
@@ -149,6 +151,7 @@ impl PeriodicSpheres {
             zeno: ZenoGuard::default(),
             list_factor: shell * (1.0 + SLACK),
             event_counts: [0; 4],
+            spare_counts: [0; 2],
             kept: Vec::new(),
         };
         gas.list_all();

@@ -64,7 +64,9 @@ impl PeriodicSpheres {
                 partner = next.other;
                 if self.counter[next.other as usize] != next.counter {
                     self.event_counts[1] += 1;
-                    self.predict(id);
+                    if !self.take_spare(id) {
+                        self.predict(id);
+                    }
                 } else {
                     self.fire(id, next.other, next.graze);
                 }
@@ -131,6 +133,7 @@ impl PeriodicSpheres {
         self.queue.prefetch(id);
         if next.kind == Kind::Pair {
             let other = next.other as usize;
+            prefetch(&self.spares[i]);
             prefetch(&self.counter[other]);
             prefetch(&self.motion[other]);
             prefetch(&self.centre[other]);

@@ -31,6 +31,7 @@ mod calendar;
 mod event;
 mod lists;
 mod predict;
+mod spare;
 mod validate;
 
 use super::motion::Motion;
@@ -200,6 +201,8 @@ pub struct PeriodicSpheres {
     grid: lists::CentreGrid,
     /// Each sphere's next event.
     queue: Calendar<Scheduled>,
+    /// What each sphere's last prediction found after its next event.
+    spares: Vec<spare::Spare>,
     /// Pair events consumed without a change of plans (grazes): `(other, its counter, time)`.
     skips: FxHashMap<u32, Vec<(u32, u32, Real)>>,
     events: Vec<ContactEvent>,
@@ -217,6 +220,8 @@ pub struct PeriodicSpheres {
     list_factor: Real,
     /// Events processed: collisions, stale events, shell crossings, grazes.
     event_counts: [u64; 4],
+    /// Stale events that took a runner-up, and that took the shell crossing.
+    spare_counts: [u64; 2],
     /// Room for the pairs a prediction keeps from a batch.
     kept: Vec<predict::Kept>,
 }
@@ -307,13 +312,16 @@ impl PeriodicSpheres {
         }
     }
 
-    /// The structure's own counters: neighbours listed, list capacity.
+    /// The structure's own counters: neighbours listed, list capacity, cells, and the stale
+    /// events that took a runner-up or the shell crossing instead of predicting again.
     pub fn counters(&self) -> Vec<(&'static str, f64)> {
         let n = self.len().max(1) as Real;
         vec![
             ("neighbours_per_sphere", self.lists.total() as f64 / n),
             ("list_capacity", self.lists.stride() as f64),
             ("cells", self.grid.cells() as f64),
+            ("stale_to_runner_up", self.spare_counts[0] as f64),
+            ("stale_to_shell", self.spare_counts[1] as f64),
         ]
     }
 

@@ -1,6 +1,7 @@
 //! Predicting a sphere's next event: its listed pairs (closed forms, or the world's root
 //! walk) and its shell crossing, the earliest of which is scheduled.
 
+use super::spare::Runners;
 use super::{Kind, Motion, Next, PeriodicSpheres, TIE_SHELL};
 use crate::certificates::ball_ball_gap;
 use crate::math::{Real, Vec3};
@@ -178,7 +179,7 @@ impl PeriodicSpheres {
         let m = self.motion[i];
         let here = m.at(self.now);
         let exit = shell_exit(here, m.velocity, self.centre[i], self.shell[i]);
-        (m, here, Earliest::new(self.now, self.now + exit))
+        (m, here, Earliest::new(self.now + exit))
     }
 
     /// Recomputes sphere `id`'s next event from its shell and its listed pairs (each through
@@ -197,7 +198,7 @@ impl PeriodicSpheres {
             kept.resize(BATCH, Kept::NONE);
             let list = self.lists.of(id);
             for batch in list.chunks(BATCH) {
-                let bound = best.next.time;
+                let bound = best.bound();
                 let kept_len = if m.t0 == now {
                     self.sift::<true>(&m, here, bound, batch, &mut kept)
                 } else {
@@ -218,6 +219,7 @@ impl PeriodicSpheres {
                     best.offer(t, graze, k, |o| pair_key(self.ext[i], self.ext[o as usize]));
                 }
             }
+            best.runners.spoil();
         }
         let mut next = best.next;
         if next.kind == Kind::Pair {
@@ -226,6 +228,9 @@ impl PeriodicSpheres {
         }
         #[cfg(test)]
         self.check_prediction(id, &next);
+        if next.kind == Kind::Pair {
+            self.keep_spare(id, &best.runners, best.shell);
+        }
         self.queue
             .schedule(id, next.time, next.tie, next.scheduled());
     }
@@ -319,7 +324,7 @@ impl PeriodicSpheres {
             clear,
         } = pair;
         let mb = &self.motion[k as usize];
-        let bound = best.next.time;
+        let bound = best.bound();
         if clear {
             // As `pair_due` takes a pair clear of the other at base and now, approaching.
             let ahead = bound - base;
@@ -341,7 +346,7 @@ impl PeriodicSpheres {
         }
         let (d, shift) = self.period.apart(here - mb.at(self.now));
         if let Some((t, graze)) = pair_due(m, mb, shift, d, self.now, None, bound) {
-            best.offer(t, graze, k, |o| {
+            best.offer_walked(t, graze, k, |o| {
                 pair_key(self.ext[id as usize], self.ext[o as usize])
             });
         }
@@ -373,19 +378,17 @@ impl Kept {
     };
 }
 
-/// The earliest event found so far while predicting: the shell crossing or a pair, its tie
-/// key once a tie has asked for it, and the bound that turns later pairs away.
+/// The earliest event found so far while predicting (the shell crossing or a pair), its tie
+/// key once a tie has asked for it, and the runners-up after it.
 struct Earliest {
     next: Next,
     tie: Option<u64>,
-    now: Real,
-    /// A pair whose first root is at least c0 / -c1 after now fails after the earliest when
-    /// c0 > -c1 limit (an infinite time turns nothing away).
-    limit: Real,
+    shell: Real,
+    runners: Runners,
 }
 
 impl Earliest {
-    fn new(now: Real, shell: Real) -> Earliest {
+    fn new(shell: Real) -> Earliest {
         let next = Next {
             time: shell,
             tie: TIE_SHELL,
@@ -395,24 +398,28 @@ impl Earliest {
         Earliest {
             next,
             tie: None,
-            now,
-            limit: Self::limit_of(now, shell),
+            shell,
+            runners: Runners::new(),
         }
     }
 
+    /// Pairs failing after this are of no use: neither the earliest nor a runner-up.
     #[inline]
-    fn limit_of(now: Real, time: Real) -> Real {
-        (time - now) * (1.0 + 1e-9) + time.abs() * 1e-15
+    fn bound(&self) -> Real {
+        self.runners.bound(self.shell)
     }
 
     /// Keeps the pair with `other` failing at `time` if it comes first: earlier, or at the
     /// same time with a lower key (`key_of(other)`, asked only on a tie; shells go last).
+    /// What comes after the earliest is offered to the runners-up.
     #[inline]
     fn offer(&mut self, time: Real, graze: bool, other: u32, key_of: impl Fn(u32) -> u64) {
         if time > self.next.time {
+            self.runners.push(time, other, self.shell);
             return;
         }
         if time == self.next.time {
+            self.runners.spoil();
             let held = match (self.tie, self.next.kind) {
                 (Some(t), _) => t,
                 (None, Kind::Pair) => key_of(self.next.other),
@@ -426,7 +433,13 @@ impl Earliest {
             self.tie = Some(tie);
         } else {
             self.tie = None;
-            self.limit = Self::limit_of(self.now, time);
+            if self.next.kind == Kind::Pair {
+                if self.next.graze {
+                    self.runners.spoil();
+                }
+                self.runners
+                    .push(self.next.time, self.next.other, self.shell);
+            }
         }
         self.next = Next {
             time,
@@ -435,6 +448,14 @@ impl Earliest {
             graze,
             ..self.next
         };
+    }
+
+    /// As [`Earliest::offer`], for a time not taken in closed form: the runners-up are not
+    /// used.
+    #[inline]
+    fn offer_walked(&mut self, time: Real, graze: bool, other: u32, key_of: impl Fn(u32) -> u64) {
+        self.runners.spoil();
+        self.offer(time, graze, other, key_of);
     }
 }
 

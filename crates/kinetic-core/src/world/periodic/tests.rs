@@ -260,3 +260,50 @@ fn a_dense_fluid_keeps_its_invariants_and_its_energy() {
     assert!(count("shell") > 1_000, "{:?}", stats.events_by_kind);
     assert!((energy(&gas) - e0).abs() < 1e-9 * e0);
 }
+
+/// Dense fluids with every listed pair's cover checked after every event (and the whole
+/// structure every hundred): stale events take runners-up, and once those are spent the
+/// shell crossing only where no pair before it was left out.
+#[test]
+fn stale_events_take_runners_up_and_every_pair_stays_covered() {
+    let mut taken = [0.0; 2];
+    for seed in 0..6 {
+        let k = 6;
+        let spacing = (std::f64::consts::PI / 6.0 / 0.45).cbrt();
+        let side = spacing * k as Real;
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let mut spheres = Vec::new();
+        for x in 0..k {
+            for y in 0..k {
+                for z in 0..k {
+                    let p = (Vec3::new(x as Real, y as Real, z as Real) + 0.5) * spacing;
+                    let v = Vec3::new(
+                        rng.random_range(-1.0..1.0),
+                        rng.random_range(-1.0..1.0),
+                        rng.random_range(-1.0..1.0),
+                    );
+                    spheres.push((0.5, FlightPlan::linear(p, v)));
+                }
+            }
+        }
+        let cell = PeriodicBox {
+            min: Vec3::ZERO,
+            max: Vec3::splat(side),
+        };
+        let mut gas = PeriodicSpheres::new(cell, &spheres).unwrap();
+        let mut events = 0u64;
+        while gas.step(8.0).unwrap() {
+            gas.validate_cover()
+                .unwrap_or_else(|e| panic!("seed {seed} at {}: {e}", gas.now()));
+            events += 1;
+            if events % 100 == 0 {
+                gas.validate().unwrap();
+            }
+        }
+        let counters = gas.counters();
+        for (j, name) in ["stale_to_runner_up", "stale_to_shell"].iter().enumerate() {
+            taken[j] += counters.iter().find(|c| c.0 == *name).unwrap().1;
+        }
+    }
+    assert!(taken[0] > 1000.0 && taken[1] > 10.0, "{taken:?}");
+}

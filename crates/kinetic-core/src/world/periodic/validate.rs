@@ -1,14 +1,18 @@
 //! Checking the structure against its invariants (for tests; quadratic in the spheres).
 
+use super::predict::pair_due;
 use super::{Kind, PeriodicSpheres};
+use crate::math::Real;
 
 impl PeriodicSpheres {
     /// Checks the invariants: lists are symmetric; every sphere is
     /// within its shell; every unlisted pair's centres are beyond the list reach (nearest
-    /// image), so it cannot touch; every scheduled event is not before now and is the one the
-    /// queue holds; the queue is ordered.
+    /// image), so it cannot touch; every listed pair is covered (see
+    /// [`PeriodicSpheres::validate_cover`]); every scheduled event is not before now and is the
+    /// one the queue holds; the queue is ordered.
     pub fn validate(&self) -> Result<(), String> {
         self.queue.validate()?;
+        self.validate_cover()?;
         let n = self.len();
         for i in 0..n as u32 {
             for &k in self.lists.of(i) {
@@ -42,6 +46,30 @@ impl PeriodicSpheres {
                     return Err(format!(
                         "periodic: spheres {i} and {k} are {} apart at their centres, within the reach {reach}, and not listed",
                         d.length()
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Checks that every listed pair is covered: one of its two spheres has an event not
+    /// after the pair's failure (linear in the listed pairs).
+    pub fn validate_cover(&self) -> Result<(), String> {
+        let at = |s: u32| self.queue.get(s).map_or(Real::INFINITY, |e| e.0);
+        for i in 0..self.len() as u32 {
+            let m = &self.motion[i as usize];
+            for &k in self.lists.of(i) {
+                let mk = &self.motion[k as usize];
+                let (d, shift) = self.period.apart(m.at(self.now) - mk.at(self.now));
+                let skip = self.skip_of(i, k);
+                if let Some((t, _)) = pair_due(m, mk, shift, d, self.now, skip, Real::INFINITY)
+                    && t < at(i).min(at(k))
+                {
+                    return Err(format!(
+                        "periodic: spheres {i} and {k} fail at {t}, before either's event ({} and {})",
+                        at(i),
+                        at(k)
                     ));
                 }
             }
