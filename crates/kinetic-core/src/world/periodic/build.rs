@@ -2,9 +2,10 @@
 //! Z-curve of cells, listing neighbours and predicting every sphere's first event.
 
 use super::calendar::Calendar;
-use super::lists::{CentreGrid, Filed, Lists};
+use super::grid::{CentreGrid, Filed};
+use super::lists::Lists;
 use super::spare::Spare;
-use super::{NEIGHBOURS, Period, PeriodicBox, PeriodicSpheres, SHELL, SLACK};
+use super::{ListCentre, NEIGHBOURS, Period, PeriodicBox, PeriodicSpheres, SHELL, SLACK};
 use crate::math::{Real, Vec3};
 use crate::plan::FlightPlan;
 use crate::world::motion::Motion;
@@ -116,14 +117,16 @@ impl PeriodicSpheres {
             .iter()
             .map(|m| (2.0 * m.radius).powi(3) * m.velocity.length_squared())
             .sum();
-        let centre: Vec<Vec3> = motion.iter().map(|m| m.at(0.0)).collect();
-        for (i, c) in centre.iter().enumerate() {
-            grid.insert(i as u32, *c, motion[i].radius);
-        }
-        let shell_radius = motion
+        let centre: Vec<ListCentre> = motion
             .iter()
-            .map(|m| (shell - 1.0) * m.radius * (1.0 - SLACK))
+            .map(|m| ListCentre {
+                at: m.at(0.0),
+                shell: (shell - 1.0) * m.radius * (1.0 - SLACK),
+            })
             .collect();
+        for (i, c) in centre.iter().enumerate() {
+            grid.insert(Filed::new(c.at, motion[i].radius, i as u32));
+        }
         let mut gas = PeriodicSpheres {
             now: 0.0,
             period: Period {
@@ -136,7 +139,6 @@ impl PeriodicSpheres {
             motion,
             counter: vec![0; n],
             centre,
-            shell: shell_radius,
             lists: Lists::new(n, 16),
             grid,
             queue: Calendar::new(n, 1.0, 1, 0.0),
@@ -153,6 +155,7 @@ impl PeriodicSpheres {
             event_counts: [0; 4],
             spare_counts: [0; 2],
             kept: Vec::new(),
+            found: Vec::new(),
         };
         gas.list_all();
         // The first events, then a calendar whose buckets hold a few dozen events each.
@@ -188,24 +191,25 @@ impl PeriodicSpheres {
     /// Lists every pair whose centres are within the list reach.
     fn list_all(&mut self) {
         let (period, factor) = (self.period, self.list_factor);
+        let mut found = std::mem::take(&mut self.found);
         for i in 0..self.len() as u32 {
-            let me = self.filed(i);
-            let lists = &mut self.lists;
-            self.grid
-                .for_each_around(self.grid.cell(me.centre), |other| {
-                    if other.id > i {
-                        list_if_near(lists, &period, factor, &me, other);
-                    }
-                });
+            self.grid.near(&self.filed(i), &period, factor, &mut found);
+            for &k in &found {
+                if k > i {
+                    self.lists.push(i, k);
+                    self.lists.push(k, i);
+                }
+            }
         }
+        self.found = found;
     }
 
     fn filed(&self, i: u32) -> Filed {
-        Filed {
-            centre: self.centre[i as usize],
-            radius: self.motion[i as usize].radius,
-            id: i,
-        }
+        Filed::new(
+            self.centre[i as usize].at,
+            self.motion[i as usize].radius,
+            i,
+        )
     }
 
     /// Sphere `id` reached its shell: it re-centres where it is and lists again. Most of its
@@ -214,43 +218,22 @@ impl PeriodicSpheres {
     pub(super) fn relist(&mut self, id: u32) {
         let i = id as usize;
         let (was, kept) = self.lists.stamps(id);
-        self.centre[i] = self.motion[i].at(self.now);
+        self.centre[i].at = self.motion[i].at(self.now);
         self.grid.remove(id);
         let me = self.filed(id);
-        let (period, factor) = (self.period, self.list_factor);
-        let lists = &mut self.lists;
-        lists.clear(id);
+        let mut found = std::mem::take(&mut self.found);
         self.grid
-            .for_each_around(self.grid.cell(me.centre), |other| {
-                if near(&period, factor, &me, other) {
-                    lists.push(id, other.id);
-                    if !lists.restamp(other.id, was, kept) {
-                        lists.push(other.id, id);
-                    }
-                }
-            });
+            .near(&me, &self.period, self.list_factor, &mut found);
+        self.lists.clear(id);
+        for &k in &found {
+            self.lists.push(id, k);
+            if !self.lists.restamp(k, was, kept) {
+                self.lists.push(k, id);
+            }
+        }
+        self.found = found;
         // The old neighbours still stamped as listed left.
         self.lists.drop_left(id, was);
-        self.grid.insert(id, me.centre, me.radius);
+        self.grid.insert(me);
     }
-}
-
-/// Lists `me` and `other` with each other if their centres are within `factor` times their
-/// sum of radii (nearest image).
-#[inline]
-fn list_if_near(lists: &mut Lists, period: &Period, factor: Real, me: &Filed, other: &Filed) {
-    if near(period, factor, me, other) {
-        lists.push(me.id, other.id);
-        lists.push(other.id, me.id);
-    }
-}
-
-/// Whether the centres of `me` and `other` are within `factor` times their sum of radii
-/// (nearest image).
-#[inline]
-fn near(period: &Period, factor: Real, me: &Filed, other: &Filed) -> bool {
-    let d = me.centre - other.centre;
-    let d = d - period.nearest(d);
-    let reach = (me.radius + other.radius) * factor;
-    d.length_squared() < reach * reach
 }

@@ -128,7 +128,6 @@ impl PeriodicSpheres {
         let i = id as usize;
         prefetch(&self.motion[i]);
         prefetch(&self.centre[i]);
-        prefetch(&self.shell[i]);
         self.lists.prefetch(id);
         self.queue.prefetch(id);
         if next.kind == Kind::Pair {
@@ -137,7 +136,6 @@ impl PeriodicSpheres {
             prefetch(&self.counter[other]);
             prefetch(&self.motion[other]);
             prefetch(&self.centre[other]);
-            prefetch(&self.shell[other]);
             self.lists.prefetch(next.other);
             self.queue.prefetch(next.other);
         }
@@ -161,7 +159,7 @@ impl PeriodicSpheres {
         m.t0 = self.now;
         m.velocity = velocity;
         if outside != Vec3::ZERO {
-            self.centre[i] -= outside;
+            self.centre[i].at -= outside;
         }
         self.counter[i] = self.counter[i].wrapping_add(1);
         if !self.skips.is_empty() {

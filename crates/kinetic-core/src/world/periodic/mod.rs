@@ -29,6 +29,7 @@
 mod build;
 mod calendar;
 mod event;
+mod grid;
 mod lists;
 mod predict;
 mod spare;
@@ -119,6 +120,15 @@ impl Next {
     };
 }
 
+/// Where a sphere's list was made, and how far from there the sphere may go before its list
+/// must be made again: one half cache line, read at every prediction.
+#[derive(Clone, Copy, Debug)]
+#[repr(align(32))]
+struct ListCentre {
+    at: Vec3,
+    shell: Real,
+}
+
 /// The box's period along each axis.
 #[derive(Clone, Copy, Debug)]
 struct Period {
@@ -194,11 +204,10 @@ pub struct PeriodicSpheres {
     motion: Vec<Motion>,
     /// Plan numbers: bumped whenever a sphere's plan changes.
     counter: Vec<u32>,
-    /// List centres, and the sphere's distance from it at which the list must be remade.
-    centre: Vec<Vec3>,
-    shell: Vec<Real>,
+    /// List centres, with the sphere's distance from it at which the list must be remade.
+    centre: Vec<ListCentre>,
     lists: lists::Lists,
-    grid: lists::CentreGrid,
+    grid: grid::CentreGrid,
     /// Each sphere's next event.
     queue: Calendar<Scheduled>,
     /// What each sphere's last prediction found after its next event.
@@ -224,6 +233,8 @@ pub struct PeriodicSpheres {
     spare_counts: [u64; 2],
     /// Room for the pairs a prediction keeps from a batch.
     kept: Vec<predict::Kept>,
+    /// Room for the spheres a relist finds.
+    found: Vec<u32>,
 }
 
 /// Bulk figures of a periodic run: collision rate, temperature and pressure.

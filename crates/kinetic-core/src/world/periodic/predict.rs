@@ -178,7 +178,8 @@ impl PeriodicSpheres {
         let i = id as usize;
         let m = self.motion[i];
         let here = m.at(self.now);
-        let exit = shell_exit(here, m.velocity, self.centre[i], self.shell[i]);
+        let c = self.centre[i];
+        let exit = shell_exit(here, m.velocity, c.at, c.shell);
         (m, here, Earliest::new(self.now + exit))
     }
 

@@ -13,6 +13,7 @@ impl PeriodicSpheres {
     pub fn validate(&self) -> Result<(), String> {
         self.queue.validate()?;
         self.validate_cover()?;
+        self.grid.validate()?;
         let n = self.len();
         for i in 0..n as u32 {
             for &k in self.lists.of(i) {
@@ -21,11 +22,12 @@ impl PeriodicSpheres {
                 }
             }
             let m = &self.motion[i as usize];
-            let from_centre = (m.at(self.now) - self.centre[i as usize]).length();
-            if from_centre > self.shell[i as usize] * (1.0 + 1e-9) + 1e-12 {
+            let c = self.centre[i as usize];
+            let from_centre = (m.at(self.now) - c.at).length();
+            if from_centre > c.shell * (1.0 + 1e-9) + 1e-12 {
                 return Err(format!(
                     "periodic: sphere {i} is {from_centre} from its list centre, beyond its shell {}",
-                    self.shell[i as usize]
+                    c.shell
                 ));
             }
             if let Some((time, _, next)) = self.queue.get(i)
@@ -37,7 +39,7 @@ impl PeriodicSpheres {
         }
         for i in 0..n {
             for k in i + 1..n {
-                let d = self.centre[i] - self.centre[k];
+                let d = self.centre[i].at - self.centre[k].at;
                 let side = self.period.side;
                 let d = d - (d / side).round() * side;
                 let reach = (self.motion[i].radius + self.motion[k].radius) * self.list_factor;
