@@ -264,3 +264,59 @@ impl CentreGrid {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Centres crowded into a few cells (spilling) and spread over the rest, filed, moved
+    /// and removed: the grid stays whole and finds exactly the centres within reach.
+    #[test]
+    fn crowded_cells_spill_and_near_finds_every_centre_within_reach() {
+        let side = Vec3::splat(10.0);
+        let period = Period {
+            min: Vec3::ZERO,
+            side,
+            inv_side: Vec3::ONE / side,
+            half_side: side * 0.5,
+        };
+        let n = 300;
+        let mut grid = CentreGrid::new(n, Vec3::ZERO, side, 2.0);
+        let mut state = 7u64;
+        let mut rand = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as Real / (1u64 << 53) as Real
+        };
+        let mut centres = Vec::new();
+        for id in 0..n as u32 {
+            // A third in one corner cell, the rest anywhere.
+            let scale = if id % 3 == 0 { 1.5 } else { 10.0 };
+            let c = Vec3::new(rand(), rand(), rand()) * scale;
+            centres.push(c);
+            grid.insert(Filed::new(c, 0.3, id));
+        }
+        grid.validate().unwrap();
+        assert!(!grid.spill.is_empty());
+        let mut found = Vec::new();
+        for round in 0..3 {
+            for id in (round..n as u32).step_by(3) {
+                grid.remove(id);
+                let c = Vec3::new(rand(), rand(), rand()) * 10.0;
+                centres[id as usize] = c;
+                grid.insert(Filed::new(c, 0.3, id));
+                grid.validate().unwrap();
+            }
+            for id in (0..n as u32).step_by(7) {
+                let me = Filed::new(centres[id as usize], 0.3, id);
+                grid.near(&me, &period, 2.0, &mut found);
+                found.sort_unstable();
+                let want: Vec<u32> = (0..n as u32)
+                    .filter(|&k| me.near(&period, 2.0, &Filed::new(centres[k as usize], 0.3, k)))
+                    .collect();
+                assert_eq!(found, want, "round {round}, sphere {id}");
+            }
+        }
+    }
+}
