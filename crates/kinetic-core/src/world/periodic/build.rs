@@ -2,7 +2,7 @@
 //! Z-curve of cells, listing neighbours and predicting every sphere's first event.
 
 use super::calendar::Calendar;
-use super::grid::{CentreGrid, Filed};
+use super::grid::CentreGrid;
 use super::lists::Lists;
 use super::spare::Spare;
 use super::{ListCentre, NEIGHBOURS, Period, PeriodicBox, PeriodicSpheres, SHELL, SLACK};
@@ -125,7 +125,7 @@ impl PeriodicSpheres {
             })
             .collect();
         for (i, c) in centre.iter().enumerate() {
-            grid.insert(Filed::new(c.at, motion[i].radius, i as u32));
+            grid.insert(i as u32, c.at, motion[i].radius);
         }
         let mut gas = PeriodicSpheres {
             now: 0.0,
@@ -190,10 +190,10 @@ impl PeriodicSpheres {
 
     /// Lists every pair whose centres are within the list reach.
     fn list_all(&mut self) {
-        let (period, factor) = (self.period, self.list_factor);
         let mut found = std::mem::take(&mut self.found);
         for i in 0..self.len() as u32 {
-            self.grid.near(&self.filed(i), &period, factor, &mut found);
+            let (centre, radius) = (self.centre[i as usize].at, self.motion[i as usize].radius);
+            self.grid.near(centre, radius, self.list_factor, &mut found);
             for &k in &found {
                 if k > i {
                     self.lists.push(i, k);
@@ -204,14 +204,6 @@ impl PeriodicSpheres {
         self.found = found;
     }
 
-    fn filed(&self, i: u32) -> Filed {
-        Filed::new(
-            self.centre[i as usize].at,
-            self.motion[i as usize].radius,
-            i,
-        )
-    }
-
     /// Sphere `id` reached its shell: it re-centres where it is and lists again. Most of its
     /// neighbours stay: only those that leave or join change their rows (a stamp per sphere
     /// says which were listed), and its own row is written afresh.
@@ -220,10 +212,9 @@ impl PeriodicSpheres {
         let (was, kept) = self.lists.stamps(id);
         self.centre[i].at = self.motion[i].at(self.now);
         self.grid.remove(id);
-        let me = self.filed(id);
+        let (centre, radius) = (self.centre[i].at, self.motion[i].radius);
         let mut found = std::mem::take(&mut self.found);
-        self.grid
-            .near(&me, &self.period, self.list_factor, &mut found);
+        self.grid.near(centre, radius, self.list_factor, &mut found);
         self.lists.clear(id);
         for &k in &found {
             self.lists.push(id, k);
@@ -234,6 +225,6 @@ impl PeriodicSpheres {
         self.found = found;
         // The old neighbours still stamped as listed left.
         self.lists.drop_left(id, was);
-        self.grid.insert(me);
+        self.grid.insert(id, centre, radius);
     }
 }

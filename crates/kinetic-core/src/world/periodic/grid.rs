@@ -5,46 +5,29 @@
 //! side) rather than through 27 separate allocations; a cell's further centres go to its
 //! spill, which ordinary fluids rarely use.
 
-use super::Period;
 use crate::math::{Real, Vec3};
 use crate::prefetch::prefetch;
 use rustc_hash::FxHashMap;
 
-/// A list centre as the grid files it: where, the sphere's radius rounded up to `f32` (a
-/// pair is listed a hair early, never late), which sphere. Two to a cache line.
+/// A list centre as the grid files it: where, as a fraction of the box along each axis
+/// (wrapped into it, in single precision), and which sphere. Four to a cache line.
 #[derive(Clone, Copy, Debug)]
-#[repr(align(32))]
-pub(super) struct Filed {
-    pub(super) centre: Vec3,
-    radius: f32,
-    pub(super) id: u32,
+#[repr(align(16))]
+struct Filed {
+    at: [f32; 3],
+    id: u32,
 }
 
-impl Filed {
-    pub(super) fn new(centre: Vec3, radius: Real, id: u32) -> Filed {
-        let mut r = radius as f32;
-        if Real::from(r) < radius {
-            r = r.next_up();
-        }
-        Filed {
-            centre,
-            radius: r,
-            id,
-        }
-    }
-
-    /// Whether the centres of `self` and `other` are within `factor` times their sum of
-    /// radii (nearest image).
-    #[inline]
-    pub(super) fn near(&self, period: &Period, factor: Real, other: &Filed) -> bool {
-        let (d, _) = period.apart(self.centre - other.centre);
-        let reach = (Real::from(self.radius) + Real::from(other.radius)) * factor;
-        d.length_squared() < reach * reach
-    }
+/// Rounds each of `x` to the nearest integer, for magnitudes below 2^51.
+#[inline]
+fn round(x: Real) -> Real {
+    const MAGIC: Real = 6_755_399_441_055_744.0; // 1.5 * 2^52
+    (x + MAGIC) - MAGIC
 }
 
 /// A uniform grid over one period of the box, each cell holding the list centres that lie in
-/// it (with the radii, so listing reads one place per candidate).
+/// it. Centres are kept in single precision: a pair is listed when its centres are within
+/// its reach plus a margin that covers the rounding (a hair early, never late).
 #[derive(Clone, Debug)]
 pub(super) struct CentreGrid {
     n: [u32; 3],
@@ -56,6 +39,10 @@ pub(super) struct CentreGrid {
     /// Each crowded cell's centres beyond its places.
     spill: FxHashMap<u32, Vec<Filed>>,
     cell_of: Vec<u32>,
+    /// Each sphere's radius, rounded up to single precision.
+    radius: Vec<f32>,
+    /// What rounding the centres may add to a distance.
+    margin: Real,
     /// Cells per unit length along each axis.
     scale: Vec3,
     min: Vec3,
@@ -82,7 +69,10 @@ impl CentreGrid {
         // Room for twice the mean, 2 to 8 places: a cell spills rarely.
         let mean = spheres as Real / cells as Real;
         let places = ((2.0 * mean).ceil() as usize).clamp(2, 8);
-        let empty = Filed::new(Vec3::ZERO, 0.0, u32::MAX);
+        let empty = Filed {
+            at: [0.0; 3],
+            id: u32::MAX,
+        };
         CentreGrid {
             n,
             places,
@@ -90,6 +80,10 @@ impl CentreGrid {
             count: vec![0; cells],
             spill: FxHashMap::default(),
             cell_of: vec![u32::MAX; spheres],
+            radius: vec![0.0; spheres],
+            // A stored fraction is within 2^-25 of the centre's: a distance, 2^-25 times the
+            // box's diagonal; this is eight times that.
+            margin: side.length() * (2.0 as Real).powi(-22),
             scale: Vec3::new(n[0] as Real, n[1] as Real, n[2] as Real) / side,
             min,
             side,
@@ -123,8 +117,27 @@ impl CentreGrid {
         (c[2] * self.n[1] + c[1]) * self.n[0] + c[0]
     }
 
-    pub(super) fn insert(&mut self, f: Filed) {
-        let cell = self.index(self.cell(f.centre));
+    /// Where `p` lies as a fraction of the box, wrapped into it.
+    #[inline]
+    fn fraction(&self, p: Vec3) -> [Real; 3] {
+        let x = (p - self.min) * self.inv_side;
+        let x = x - x.floor();
+        [x.x, x.y, x.z]
+    }
+
+    /// Files sphere `id`'s list centre `centre`; its radius is `radius`.
+    pub(super) fn insert(&mut self, id: u32, centre: Vec3, radius: Real) {
+        let mut r = radius as f32;
+        if Real::from(r) < radius {
+            r = r.next_up();
+        }
+        self.radius[id as usize] = r;
+        let x = self.fraction(centre);
+        let f = Filed {
+            at: x.map(|x| x as f32),
+            id,
+        };
+        let cell = self.index(self.cell(centre));
         let c = cell as usize;
         let k = self.count[c] as usize;
         if k < self.places {
@@ -188,22 +201,24 @@ impl CentreGrid {
         runs
     }
 
-    /// Writes to `found` the spheres whose centres, filed in the 27 cells around `me`'s
-    /// (with wrap-around), are within `factor` times the sum of radii of `me`'s (nearest
-    /// image). The cells' centres are asked for first, so that they are fetched together,
-    /// and tested without a branch on the outcome.
+    /// Writes to `found` the spheres whose centres, filed in the 27 cells around that of
+    /// `centre`, are within `factor` times the sum of their radius and `radius` (nearest
+    /// image, plus the rounding margin). The cells' centres are asked for first, so that they
+    /// are fetched together, and tested without a branch on the outcome.
     #[inline]
-    pub(super) fn near(&self, me: &Filed, period: &Period, factor: Real, found: &mut Vec<u32>) {
+    pub(super) fn near(&self, centre: Vec3, radius: Real, factor: Real, found: &mut Vec<u32>) {
         found.clear();
-        let runs = self.runs(self.cell(me.centre));
+        let runs = self.runs(self.cell(centre));
+        let me = self.fraction(centre);
+        let side = self.side;
         let mut total = 0;
         for run in &runs {
             for &cell in run {
                 let at = cell as usize * self.places;
                 let k = self.count[cell as usize] as usize;
                 total += k;
-                // Two centres a line.
-                for j in (0..k.min(self.places)).step_by(2) {
+                // Four centres a line.
+                for j in (0..k.min(self.places)).step_by(4) {
                     prefetch(&self.filed[at + j]);
                 }
             }
@@ -212,7 +227,14 @@ impl CentreGrid {
         let mut len = 0;
         let mut test = |f: &Filed| {
             found[len] = f.id;
-            len += usize::from(me.near(period, factor, f));
+            let mut d2 = 0.0;
+            for k in 0..3 {
+                let x = me[k] - Real::from(f.at[k]);
+                let x = (x - round(x)) * side[k];
+                d2 += x * x;
+            }
+            let reach = (radius + Real::from(self.radius[f.id as usize])) * factor + self.margin;
+            len += usize::from(d2 < reach * reach);
         };
         for run in &runs {
             for &cell in run {
@@ -270,18 +292,13 @@ mod tests {
     use super::*;
 
     /// Centres crowded into a few cells (spilling) and spread over the rest, filed, moved
-    /// and removed: the grid stays whole and finds exactly the centres within reach.
+    /// and removed: the grid stays whole, and finds every centre within reach and none
+    /// beyond reach and margin.
     #[test]
     fn crowded_cells_spill_and_near_finds_every_centre_within_reach() {
-        let side = Vec3::splat(10.0);
-        let period = Period {
-            min: Vec3::ZERO,
-            side,
-            inv_side: Vec3::ONE / side,
-            half_side: side * 0.5,
-        };
+        let side = Vec3::new(10.0, 9.0, 11.0);
         let n = 300;
-        let mut grid = CentreGrid::new(n, Vec3::ZERO, side, 2.0);
+        let mut grid = CentreGrid::new(n, Vec3::splat(-1.0), side, 2.0);
         let mut state = 7u64;
         let mut rand = || {
             state ^= state << 13;
@@ -289,33 +306,42 @@ mod tests {
             state ^= state << 17;
             (state >> 11) as Real / (1u64 << 53) as Real
         };
+        let radius = |id: u32| 0.2 + 0.01 * (id % 10) as Real;
         let mut centres = Vec::new();
         for id in 0..n as u32 {
-            // A third in one corner cell, the rest anywhere.
-            let scale = if id % 3 == 0 { 1.5 } else { 10.0 };
-            let c = Vec3::new(rand(), rand(), rand()) * scale;
+            // A third in one corner cell, the rest anywhere (a few outside the box).
+            let scale = if id % 3 == 0 { 1.5 } else { 11.0 };
+            let c = Vec3::new(rand(), rand(), rand()) * scale - 1.0;
             centres.push(c);
-            grid.insert(Filed::new(c, 0.3, id));
+            grid.insert(id, c, radius(id));
         }
         grid.validate().unwrap();
         assert!(!grid.spill.is_empty());
+        let distance = |a: Vec3, b: Vec3| {
+            let d = a - b;
+            (d - (d / side).round() * side).length()
+        };
         let mut found = Vec::new();
         for round in 0..3 {
             for id in (round..n as u32).step_by(3) {
                 grid.remove(id);
                 let c = Vec3::new(rand(), rand(), rand()) * 10.0;
                 centres[id as usize] = c;
-                grid.insert(Filed::new(c, 0.3, id));
+                grid.insert(id, c, radius(id));
                 grid.validate().unwrap();
             }
             for id in (0..n as u32).step_by(7) {
-                let me = Filed::new(centres[id as usize], 0.3, id);
-                grid.near(&me, &period, 2.0, &mut found);
-                found.sort_unstable();
-                let want: Vec<u32> = (0..n as u32)
-                    .filter(|&k| me.near(&period, 2.0, &Filed::new(centres[k as usize], 0.3, k)))
-                    .collect();
-                assert_eq!(found, want, "round {round}, sphere {id}");
+                grid.near(centres[id as usize], radius(id), 2.0, &mut found);
+                for k in 0..n as u32 {
+                    let d = distance(centres[id as usize], centres[k as usize]);
+                    let reach = (radius(id) + radius(k)) * 2.0;
+                    if d < reach {
+                        assert!(found.contains(&k), "round {round}: {id} misses {k}");
+                    }
+                    if d > reach + grid.margin {
+                        assert!(!found.contains(&k), "round {round}: {id} finds {k}");
+                    }
+                }
             }
         }
     }
