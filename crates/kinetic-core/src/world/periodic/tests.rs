@@ -296,7 +296,7 @@ fn stale_events_take_runners_up_and_every_pair_stays_covered() {
             gas.validate_cover()
                 .unwrap_or_else(|e| panic!("seed {seed} at {}: {e}", gas.now()));
             events += 1;
-            if events % 100 == 0 {
+            if events.is_multiple_of(100) {
                 gas.validate().unwrap();
             }
         }
