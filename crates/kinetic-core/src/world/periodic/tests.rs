@@ -220,15 +220,12 @@ fn bad_boxes_and_spheres_are_refused() {
     assert!(empty.is_empty());
 }
 
-/// A dense fluid (a lattice at packing 0.45 that melts): tens of thousands of collisions,
-/// stale events and shell crossings, every prediction checked against every pair's (the
-/// unit-test build checks each one) and the structure validated along the way.
-#[test]
-fn a_dense_fluid_keeps_its_invariants_and_its_energy() {
-    let k = 6;
+/// `k^3` spheres of diameter 1 on a cubic lattice at packing 0.45 in a periodic box, with
+/// random velocities from `seed`: a dense fluid once the lattice melts.
+fn dense_lattice(k: usize, seed: u64) -> PeriodicSpheres {
     let spacing = (std::f64::consts::PI / 6.0 / 0.45).cbrt();
     let side = spacing * k as Real;
-    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut spheres = Vec::new();
     for x in 0..k {
         for y in 0..k {
@@ -247,7 +244,15 @@ fn a_dense_fluid_keeps_its_invariants_and_its_energy() {
         min: Vec3::ZERO,
         max: Vec3::splat(side),
     };
-    let mut gas = PeriodicSpheres::new(cell, &spheres).unwrap();
+    PeriodicSpheres::new(cell, &spheres).unwrap()
+}
+
+/// A dense fluid (a lattice at packing 0.45 that melts): tens of thousands of collisions,
+/// stale events and shell crossings, every prediction checked against every pair's (the
+/// unit-test build checks each one) and the structure validated along the way.
+#[test]
+fn a_dense_fluid_keeps_its_invariants_and_its_energy() {
+    let mut gas = dense_lattice(6, 5);
     let e0 = energy(&gas);
     for step in 1..=40 {
         gas.advance_to(step as Real * 0.5).unwrap();
@@ -268,29 +273,7 @@ fn a_dense_fluid_keeps_its_invariants_and_its_energy() {
 fn stale_events_take_runners_up_and_every_pair_stays_covered() {
     let mut taken = [0.0; 2];
     for seed in 0..6 {
-        let k = 6;
-        let spacing = (std::f64::consts::PI / 6.0 / 0.45).cbrt();
-        let side = spacing * k as Real;
-        let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        let mut spheres = Vec::new();
-        for x in 0..k {
-            for y in 0..k {
-                for z in 0..k {
-                    let p = (Vec3::new(x as Real, y as Real, z as Real) + 0.5) * spacing;
-                    let v = Vec3::new(
-                        rng.random_range(-1.0..1.0),
-                        rng.random_range(-1.0..1.0),
-                        rng.random_range(-1.0..1.0),
-                    );
-                    spheres.push((0.5, FlightPlan::linear(p, v)));
-                }
-            }
-        }
-        let cell = PeriodicBox {
-            min: Vec3::ZERO,
-            max: Vec3::splat(side),
-        };
-        let mut gas = PeriodicSpheres::new(cell, &spheres).unwrap();
+        let mut gas = dense_lattice(6, seed);
         let mut events = 0u64;
         while gas.step(8.0).unwrap() {
             gas.validate_cover()
