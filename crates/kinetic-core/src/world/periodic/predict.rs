@@ -229,6 +229,8 @@ impl PeriodicSpheres {
         }
         #[cfg(test)]
         self.check_prediction(id, &next);
+        // A shell crossing never goes stale, so the spare of an earlier prediction is left
+        // as it is: only a stale pair event, scheduled by this prediction or its spare, reads it.
         if next.kind == Kind::Pair {
             self.keep_spare(id, &best.runners, best.shell);
         }
