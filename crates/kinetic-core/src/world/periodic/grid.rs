@@ -39,8 +39,11 @@ pub(super) struct CentreGrid {
     /// Each crowded cell's centres beyond its places.
     spill: FxHashMap<u32, Vec<Filed>>,
     cell_of: Vec<u32>,
-    /// Each sphere's radius, rounded up to single precision.
+    /// Each sphere's radius, rounded up to single precision; the first filed, and whether
+    /// any other differs (when none does, a search takes one reach for every centre).
     radius: Vec<f32>,
+    first_radius: f32,
+    radii_differ: bool,
     /// What rounding the centres may add to a distance.
     margin: Real,
     /// Cells per unit length along each axis.
@@ -81,6 +84,8 @@ impl CentreGrid {
             spill: FxHashMap::default(),
             cell_of: vec![u32::MAX; spheres],
             radius: vec![0.0; spheres],
+            first_radius: 0.0,
+            radii_differ: false,
             // A stored fraction is within 2^-25 of the centre's: a distance, 2^-25 times the
             // box's diagonal; this is eight times that.
             margin: side.length() * (2.0 as Real).powi(-22),
@@ -132,6 +137,11 @@ impl CentreGrid {
             r = r.next_up();
         }
         self.radius[id as usize] = r;
+        if self.first_radius == 0.0 {
+            self.first_radius = r;
+        } else if r != self.first_radius {
+            self.radii_differ = true;
+        }
         let x = self.fraction(centre);
         let f = Filed {
             at: x.map(|x| x as f32),
@@ -210,7 +220,6 @@ impl CentreGrid {
         found.clear();
         let runs = self.runs(self.cell(centre));
         let me = self.fraction(centre);
-        let side = self.side;
         let mut total = 0;
         for run in &runs {
             for &cell in run {
@@ -224,6 +233,30 @@ impl CentreGrid {
             }
         }
         found.resize(total, 0);
+        if self.radii_differ {
+            self.test_runs(&runs, me, found, |f| {
+                let reach =
+                    (radius + Real::from(self.radius[f.id as usize])) * factor + self.margin;
+                reach * reach
+            });
+        } else {
+            let reach = (radius + Real::from(self.first_radius)) * factor + self.margin;
+            self.test_runs(&runs, me, found, |_| reach * reach);
+        }
+    }
+
+    /// Tests the centres filed in the cells of `runs` against the centre at `me` (a
+    /// fraction of the box), keeping in `found` those closer than the square root of
+    /// `reach2(centre)`.
+    #[inline(always)]
+    fn test_runs(
+        &self,
+        runs: &[[u32; 3]; 9],
+        me: [Real; 3],
+        found: &mut Vec<u32>,
+        reach2: impl Fn(&Filed) -> Real,
+    ) {
+        let side = self.side;
         let mut len = 0;
         let mut test = |f: &Filed| {
             found[len] = f.id;
@@ -233,10 +266,9 @@ impl CentreGrid {
                 let x = (x - round(x)) * side[k];
                 d2 += x * x;
             }
-            let reach = (radius + Real::from(self.radius[f.id as usize])) * factor + self.margin;
-            len += usize::from(d2 < reach * reach);
+            len += usize::from(d2 < reach2(f));
         };
-        for run in &runs {
+        for run in runs {
             for &cell in run {
                 let c = cell as usize;
                 let k = self.count[c] as usize;
@@ -293,9 +325,14 @@ mod tests {
 
     /// Centres crowded into a few cells (spilling) and spread over the rest, filed, moved
     /// and removed: the grid stays whole, and finds every centre within reach and none
-    /// beyond reach and margin.
+    /// beyond reach and margin, with radii that differ and with one radius for all.
     #[test]
     fn crowded_cells_spill_and_near_finds_every_centre_within_reach() {
+        search_crowded_cells(|id| 0.2 + 0.01 * (id % 10) as Real, true);
+        search_crowded_cells(|_| 0.25, false);
+    }
+
+    fn search_crowded_cells(radius: impl Fn(u32) -> Real, differ: bool) {
         let side = Vec3::new(10.0, 9.0, 11.0);
         let n = 300;
         let mut grid = CentreGrid::new(n, Vec3::splat(-1.0), side, 2.0);
@@ -306,7 +343,6 @@ mod tests {
             state ^= state << 17;
             (state >> 11) as Real / (1u64 << 53) as Real
         };
-        let radius = |id: u32| 0.2 + 0.01 * (id % 10) as Real;
         let mut centres = Vec::new();
         for id in 0..n as u32 {
             // A third in one corner cell, the rest anywhere (a few outside the box).
@@ -317,6 +353,7 @@ mod tests {
         }
         grid.validate().unwrap();
         assert!(!grid.spill.is_empty());
+        assert_eq!(grid.radii_differ, differ);
         let distance = |a: Vec3, b: Vec3| {
             let d = a - b;
             (d - (d / side).round() * side).length()

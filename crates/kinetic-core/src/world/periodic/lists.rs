@@ -135,7 +135,7 @@ impl Lists {
 
     /// Doubles the stride (a list is full): every row moves to its new place.
     fn grow(&mut self) {
-        let stride = (self.stride * 2).min(u16::MAX as usize);
+        let stride = (self.stride + 8).min(u16::MAX as usize);
         assert!(
             stride > self.stride,
             "a neighbour list holds at most 65534 spheres"

@@ -32,6 +32,7 @@ mod event;
 mod grid;
 mod lists;
 mod predict;
+mod sift;
 mod spare;
 mod validate;
 
@@ -232,7 +233,7 @@ pub struct PeriodicSpheres {
     /// Stale events that took a runner-up, and that took the shell crossing.
     spare_counts: [u64; 2],
     /// Room for the pairs a prediction keeps from a batch.
-    kept: Vec<predict::Kept>,
+    kept: Vec<sift::Kept>,
     /// Room for the spheres a relist finds.
     found: Vec<u32>,
 }

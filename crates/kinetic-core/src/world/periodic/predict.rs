@@ -1,6 +1,7 @@
 //! Predicting a sphere's next event: its listed pairs (closed forms, or the world's root
 //! walk) and its shell crossing, the earliest of which is scheduled.
 
+use super::sift::{BATCH, Kept};
 use super::spare::Runners;
 use super::{Kind, Motion, Next, PeriodicSpheres, TIE_SHELL};
 use crate::certificates::ball_ball_gap;
@@ -201,7 +202,12 @@ impl PeriodicSpheres {
             for batch in list.chunks(BATCH) {
                 let bound = best.bound();
                 let kept_len = if m.t0 == now {
-                    self.sift::<true>(&m, here, bound, batch, &mut kept)
+                    // SAFETY: SSE2, which `sift_now` asks for, is part of every x86-64
+                    // processor.
+                    #[allow(unsafe_code)]
+                    unsafe {
+                        self.sift_now(&m, here, bound, batch, &mut kept)
+                    }
                 } else {
                     self.sift::<false>(&m, here, bound, batch, &mut kept)
                 };
@@ -236,83 +242,6 @@ impl PeriodicSpheres {
         }
         self.queue
             .schedule(id, next.time, next.tie, next.scheduled());
-    }
-
-    /// The first pass over a batch of `m`'s neighbours: writes to `kept` the pairs that
-    /// [`pair_due`] would not turn away at once (apart, and parting or failing after `bound`),
-    /// and returns how many. Each pair's gap is taken around the later of the two plans'
-    /// starts, as `pair_due` takes it; `STARTED_NOW` says that `m`'s plan starts now, so that
-    /// every pair's gap is taken around now.
-    #[inline]
-    fn sift<const STARTED_NOW: bool>(
-        &self,
-        m: &Motion,
-        here: Vec3,
-        bound: Real,
-        batch: &[u32],
-        kept: &mut [Kept],
-    ) -> usize {
-        let now = self.now;
-        let motion = &self.motion[..];
-        let half = self.period.half_side;
-        // The starts first, in a loop of loads alone: the neighbours' motions are fetched
-        // together rather than one pair at a time.
-        let mut starts = [0.0; BATCH];
-        for (start, &k) in starts.iter_mut().zip(batch) {
-            *start = motion[k as usize].t0;
-        }
-        let kept = &mut kept[..batch.len()];
-        let mut len = 0;
-        for (&k, &t0) in batch.iter().zip(&starts) {
-            let mb = &motion[k as usize];
-            let mut d = here - mb.at(now);
-            let near = (d.x.abs() < half.x) & (d.y.abs() < half.y) & (d.z.abs() < half.z);
-            let mut shift = Vec3::ZERO;
-            if !near {
-                shift = self.period.nearest(d);
-                d -= shift;
-            }
-            let reach = m.radius + mb.radius;
-            let threshold2 = reach * reach;
-            let v = m.velocity - mb.velocity;
-            let (base, c0, c1, gap_now);
-            if STARTED_NOW {
-                base = now;
-                c0 = d.dot(d) - threshold2;
-                c1 = 2.0 * d.dot(v);
-                gap_now = c0;
-            } else {
-                let later = if m.t0 > t0 { m.t0 } else { t0 };
-                base = if later < now { later } else { now };
-                let db = if base == now {
-                    d
-                } else {
-                    (m.at(base) - mb.at(base)) - shift
-                };
-                c0 = db.dot(db) - threshold2;
-                c1 = 2.0 * db.dot(v);
-                gap_now = if base == now {
-                    c0
-                } else {
-                    d.dot(d) - threshold2
-                };
-            }
-            let apart = (c0 > 0.0) & (gap_now > 0.0);
-            let ahead = bound - base;
-            let after_bound =
-                ahead.is_finite() & (c0 > -c1 * (ahead * (1.0 + 1e-9) + bound.abs() * 1e-15));
-            let parting = (c0 <= 0.0) & (c1 > 0.0) & (base == now);
-            let none = parting | (apart & ((c1 >= 0.0) | after_bound));
-            kept[len] = Kept {
-                k,
-                c0,
-                c1,
-                base,
-                clear: apart,
-            };
-            len += usize::from(!none);
-        }
-        len
     }
 
     /// The second pass: a kept pair's failure time, in closed form where it is clear and by
@@ -354,31 +283,6 @@ impl PeriodicSpheres {
             });
         }
     }
-}
-
-/// Neighbours sifted in one batch.
-const BATCH: usize = 32;
-
-/// A pair kept by the first pass: the neighbour, the first two coefficients of its gap
-/// `c0 + c1 tau + c2 tau^2` around `base`, and whether the two are clear of each other at
-/// `base` and now.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Kept {
-    k: u32,
-    c0: Real,
-    c1: Real,
-    base: Real,
-    clear: bool,
-}
-
-impl Kept {
-    const NONE: Kept = Kept {
-        k: 0,
-        c0: 0.0,
-        c1: 0.0,
-        base: 0.0,
-        clear: false,
-    };
 }
 
 /// The earliest event found so far while predicting (the shell crossing or a pair), its tie
