@@ -202,14 +202,9 @@ impl PeriodicSpheres {
             for batch in list.chunks(BATCH) {
                 let bound = best.bound();
                 let kept_len = if m.t0 == now {
-                    // SAFETY: SSE2, which `sift_now` asks for, is part of every x86-64
-                    // processor.
-                    #[allow(unsafe_code)]
-                    unsafe {
-                        self.sift_now(&m, here, bound, batch, &mut kept)
-                    }
+                    self.first_pass::<true>(&m, here, bound, batch, &mut kept)
                 } else {
-                    self.sift::<false>(&m, here, bound, batch, &mut kept)
+                    self.first_pass::<false>(&m, here, bound, batch, &mut kept)
                 };
                 for pair in &kept[..kept_len] {
                     self.offer_kept(id, &m, here, pair, &mut best);

@@ -1,17 +1,22 @@
 //! The first pass of a prediction over a batch of neighbours: each pair's gap coefficients,
 //! with no branch that depends on the pair, keeping the few pairs that may fail before the
-//! bound. A sphere whose plan starts now (after a collision: most predictions) takes its
-//! pairs two at a time in SSE2 lanes, each lane with the scalar pass's operations in order.
+//! bound. On x86-64 the pairs go two at a time in SSE2 lanes, each lane with the scalar
+//! pass's operations in order.
 
 use super::{Motion, PeriodicSpheres};
 use crate::math::{Real, Vec3};
+#[cfg(target_arch = "x86_64")]
+use crate::prefetch::prefetch;
 
 impl PeriodicSpheres {
-    /// The first pass over a batch of `m`'s neighbours: writes to `kept` the pairs that
-    /// [`pair_due`](super::predict::pair_due) would not turn away at once (apart, and parting or failing after `bound`),
-    /// and returns how many. Each pair's gap is taken around the later of the two plans'
-    /// starts, as `pair_due` takes it; `STARTED_NOW` says that `m`'s plan starts now, so that
-    /// every pair's gap is taken around now.
+    /// The first pass over a batch of `m`'s neighbours, one pair at a time: writes to `kept`
+    /// the pairs that [`pair_due`](super::predict::pair_due) would not turn away at once
+    /// (apart, and parting or failing after `bound`), and returns how many. Each pair's gap
+    /// is taken around the later of the two plans' starts, as `pair_due` takes it;
+    /// `STARTED_NOW` says that `m`'s plan starts now, so that every pair's gap is taken
+    /// around now. Other processors than x86-64 take it; there, the tests check the lanes
+    /// against it.
+    #[cfg(any(test, not(target_arch = "x86_64")))]
     #[inline]
     pub(super) fn sift<const STARTED_NOW: bool>(
         &self,
@@ -84,12 +89,33 @@ impl PeriodicSpheres {
         len
     }
 
-    /// [`Self::sift`] for a sphere whose plan starts now, two pairs at a time in the two
-    /// lanes of SSE2 registers: each lane takes the scalar pass's operations in its order, so
-    /// the coefficients are the same to the bit.
+    /// The first pass over a batch, as [`Self::sift`] gives it: in SSE2 lanes on x86-64.
+    #[inline]
+    pub(super) fn first_pass<const STARTED_NOW: bool>(
+        &self,
+        m: &Motion,
+        here: Vec3,
+        bound: Real,
+        batch: &[u32],
+        kept: &mut [Kept],
+    ) -> usize {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: SSE2, which `sift_lanes` asks for, is part of every x86-64 processor.
+        #[allow(unsafe_code)]
+        unsafe {
+            self.sift_lanes::<STARTED_NOW>(m, here, bound, batch, kept)
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        self.sift::<STARTED_NOW>(m, here, bound, batch, kept)
+    }
+
+    /// [`Self::sift`] two pairs at a time in the two lanes of SSE2 registers: each lane takes
+    /// the scalar pass's operations in its order, so the coefficients are the same to the
+    /// bit. Each neighbour's motion goes into its lane from its own cache line, not through
+    /// memory.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "sse2")]
-    pub(super) fn sift_now(
+    pub(super) fn sift_lanes<const STARTED_NOW: bool>(
         &self,
         m: &Motion,
         here: Vec3,
@@ -100,82 +126,114 @@ impl PeriodicSpheres {
         use std::arch::x86_64::*;
         let now = self.now;
         let motion = &self.motion[..];
+        if !STARTED_NOW {
+            // No collision asked for these motions: they are asked for together first.
+            for &k in batch {
+                prefetch(&motion[k as usize]);
+            }
+        }
         let p = &self.period;
         let splat = _mm_set1_pd;
+        let splat3 = |v: Vec3| [splat(v.x), splat(v.y), splat(v.z)];
         let sign = splat(-0.0);
         let abs = |x: __m128d| _mm_andnot_pd(sign, x);
+        let select = |mask: __m128d, a: __m128d, b: __m128d| {
+            _mm_or_pd(_mm_and_pd(mask, a), _mm_andnot_pd(mask, b))
+        };
         let (zero, two, now2) = (splat(0.0), splat(2.0), splat(now));
-        let here = [splat(here.x), splat(here.y), splat(here.z)];
-        let half = [
-            splat(p.half_side.x),
-            splat(p.half_side.y),
-            splat(p.half_side.z),
-        ];
-        let side = [splat(p.side.x), splat(p.side.y), splat(p.side.z)];
-        let inv = [
-            splat(p.inv_side.x),
-            splat(p.inv_side.y),
-            splat(p.inv_side.z),
-        ];
-        let mv = [
-            splat(m.velocity.x),
-            splat(m.velocity.y),
-            splat(m.velocity.z),
-        ];
+        let (here, half, side, inv) = (
+            splat3(here),
+            splat3(p.half_side),
+            splat3(p.side),
+            splat3(p.inv_side),
+        );
+        let (mp, mv, mt0) = (splat3(m.position), splat3(m.velocity), splat(m.t0));
         let radius = splat(m.radius);
         let magic = splat(6_755_399_441_055_744.0); // 1.5 * 2^52: rounds to integers
-        // As the scalar pass: a pair failing after the bound is turned away.
-        let ahead = bound - now;
-        let finite = ahead.is_finite();
-        let reach_bound = splat(ahead * (1.0 + 1e-9) + bound.abs() * 1e-15);
+        let (bound2, slack) = (splat(bound), splat(bound.abs() * 1e-15));
+        let (infinity, widen) = (splat(Real::INFINITY), splat(1.0 + 1e-9));
+        let ahead_now = _mm_sub_pd(bound2, now2);
+        let finite_now = _mm_cmplt_pd(abs(ahead_now), infinity);
+        let reach_bound_now = _mm_add_pd(_mm_mul_pd(ahead_now, widen), slack);
+        let dot = |u: &[__m128d; 3], v: &[__m128d; 3]| {
+            _mm_add_pd(
+                _mm_add_pd(_mm_mul_pd(u[0], v[0]), _mm_mul_pd(u[1], v[1])),
+                _mm_mul_pd(u[2], v[2]),
+            )
+        };
         let mut len = 0;
         for pair in batch.chunks(2) {
             let (k0, k1) = (pair[0], *pair.last().unwrap_or(&pair[0]));
             let (a, b) = (&motion[k0 as usize], &motion[k1 as usize]);
             let lane = |x: Real, y: Real| _mm_set_pd(y, x);
-            let dt = _mm_sub_pd(now2, lane(a.t0, b.t0));
-            let pos = [
-                lane(a.position.x, b.position.x),
-                lane(a.position.y, b.position.y),
-                lane(a.position.z, b.position.z),
-            ];
-            let vel = [
-                lane(a.velocity.x, b.velocity.x),
-                lane(a.velocity.y, b.velocity.y),
-                lane(a.velocity.z, b.velocity.z),
-            ];
+            let lane3 = |x: Vec3, y: Vec3| [lane(x.x, y.x), lane(x.y, y.y), lane(x.z, y.z)];
+            let t0 = lane(a.t0, b.t0);
+            let dt = _mm_sub_pd(now2, t0);
+            let (pos, vel) = (lane3(a.position, b.position), lane3(a.velocity, b.velocity));
             let mut d = [zero; 3];
             let mut near = _mm_castsi128_pd(_mm_set1_epi64x(-1));
             for x in 0..3 {
                 d[x] = _mm_sub_pd(here[x], _mm_add_pd(pos[x], _mm_mul_pd(vel[x], dt)));
                 near = _mm_and_pd(near, _mm_cmplt_pd(abs(d[x]), half[x]));
             }
+            // The image shift, zero in a lane whose pair is near (taking zero off leaves
+            // the difference as it is, to the bit).
+            let mut shift = [zero; 3];
             if _mm_movemask_pd(near) != 3 {
                 for x in 0..3 {
                     let whole = _mm_sub_pd(_mm_add_pd(_mm_mul_pd(d[x], inv[x]), magic), magic);
-                    let shifted = _mm_sub_pd(d[x], _mm_mul_pd(whole, side[x]));
-                    d[x] = _mm_or_pd(_mm_and_pd(near, d[x]), _mm_andnot_pd(near, shifted));
+                    shift[x] = _mm_andnot_pd(near, _mm_mul_pd(whole, side[x]));
+                    d[x] = _mm_sub_pd(d[x], shift[x]);
                 }
             }
             let reach = _mm_add_pd(radius, lane(a.radius, b.radius));
             let threshold2 = _mm_mul_pd(reach, reach);
-            let dot = |u: &[__m128d; 3], v: &[__m128d; 3]| {
-                _mm_add_pd(
-                    _mm_add_pd(_mm_mul_pd(u[0], v[0]), _mm_mul_pd(u[1], v[1])),
-                    _mm_mul_pd(u[2], v[2]),
-                )
-            };
             let w = [
                 _mm_sub_pd(mv[0], vel[0]),
                 _mm_sub_pd(mv[1], vel[1]),
                 _mm_sub_pd(mv[2], vel[2]),
             ];
-            let c0 = _mm_sub_pd(dot(&d, &d), threshold2);
-            let c1 = _mm_mul_pd(two, dot(&d, &w));
-            let apart = _mm_cmpgt_pd(c0, zero);
-            let late = _mm_cmpgt_pd(c0, _mm_mul_pd(_mm_xor_pd(c1, sign), reach_bound));
-            let after_bound = if finite { late } else { zero };
-            let parting = _mm_and_pd(_mm_cmple_pd(c0, zero), _mm_cmpgt_pd(c1, zero));
+            let (base, at_now, c0, c1, gap_now);
+            if STARTED_NOW {
+                base = now2;
+                at_now = _mm_castsi128_pd(_mm_set1_epi64x(-1));
+                c0 = _mm_sub_pd(dot(&d, &d), threshold2);
+                c1 = _mm_mul_pd(two, dot(&d, &w));
+                gap_now = c0;
+            } else {
+                let later = select(_mm_cmpgt_pd(mt0, t0), mt0, t0);
+                base = select(_mm_cmplt_pd(later, now2), later, now2);
+                at_now = _mm_cmpeq_pd(base, now2);
+                let (ta, tb) = (_mm_sub_pd(base, mt0), _mm_sub_pd(base, t0));
+                let mut db = [zero; 3];
+                for x in 0..3 {
+                    let ma = _mm_add_pd(mp[x], _mm_mul_pd(mv[x], ta));
+                    let mb = _mm_add_pd(pos[x], _mm_mul_pd(vel[x], tb));
+                    db[x] = select(at_now, d[x], _mm_sub_pd(_mm_sub_pd(ma, mb), shift[x]));
+                }
+                c0 = _mm_sub_pd(dot(&db, &db), threshold2);
+                c1 = _mm_mul_pd(two, dot(&db, &w));
+                gap_now = select(at_now, c0, _mm_sub_pd(dot(&d, &d), threshold2));
+            }
+            let apart = _mm_and_pd(_mm_cmpgt_pd(c0, zero), _mm_cmpgt_pd(gap_now, zero));
+            // (With the plan starting now, every lane's is the one taken before the loop.)
+            let (finite, reach_bound) = if STARTED_NOW {
+                (finite_now, reach_bound_now)
+            } else {
+                let ahead = _mm_sub_pd(bound2, base);
+                (
+                    _mm_cmplt_pd(abs(ahead), infinity),
+                    _mm_add_pd(_mm_mul_pd(ahead, widen), slack),
+                )
+            };
+            let after_bound = _mm_and_pd(
+                finite,
+                _mm_cmpgt_pd(c0, _mm_mul_pd(_mm_xor_pd(c1, sign), reach_bound)),
+            );
+            let parting = _mm_and_pd(
+                _mm_and_pd(_mm_cmple_pd(c0, zero), _mm_cmpgt_pd(c1, zero)),
+                at_now,
+            );
             let none = _mm_or_pd(
                 parting,
                 _mm_and_pd(apart, _mm_or_pd(_mm_cmpge_pd(c1, zero), after_bound)),
@@ -183,32 +241,19 @@ impl PeriodicSpheres {
             let keep = !_mm_movemask_pd(none) & if pair.len() == 2 { 3 } else { 1 };
             let apart = _mm_movemask_pd(apart);
             let lanes = |x: __m128d| [_mm_cvtsd_f64(x), _mm_cvtsd_f64(_mm_unpackhi_pd(x, x))];
-            let (c0s, c1s) = (lanes(c0), lanes(c1));
+            let (c0s, c1s, bases) = (lanes(c0), lanes(c1), lanes(base));
             for (j, &k) in pair.iter().enumerate() {
                 kept[len] = Kept {
                     k,
                     c0: c0s[j],
                     c1: c1s[j],
-                    base: now,
+                    base: bases[j],
                     clear: apart >> j & 1 != 0,
                 };
                 len += (keep >> j & 1) as usize;
             }
         }
         len
-    }
-
-    #[cfg(not(target_arch = "x86_64"))]
-    #[inline]
-    pub(super) fn sift_now(
-        &self,
-        m: &Motion,
-        here: Vec3,
-        bound: Real,
-        batch: &[u32],
-        kept: &mut [Kept],
-    ) -> usize {
-        self.sift::<true>(m, here, bound, batch, kept)
     }
 }
 
@@ -235,4 +280,94 @@ impl Kept {
         base: 0.0,
         clear: false,
     };
+}
+
+#[cfg(all(test, target_arch = "x86_64"))]
+mod tests {
+    use super::*;
+    use crate::FlightPlan;
+    use crate::world::periodic::PeriodicBox;
+
+    /// Both passes over every sphere's list, with and without a bound: the same pairs kept,
+    /// with the same coefficients and bases to the bit.
+    fn same_passes(gas: &PeriodicSpheres) -> usize {
+        let mut checked = 0;
+        let (mut a, mut b) = (vec![Kept::NONE; BATCH], vec![Kept::NONE; BATCH]);
+        for id in 0..gas.len() as u32 {
+            let m = gas.motion[id as usize];
+            let here = m.at(gas.now);
+            for batch in gas.lists.of(id).chunks(BATCH) {
+                for bound in [Real::INFINITY, gas.now + 0.05, gas.now + 1.0] {
+                    let scalar = (
+                        gas.sift::<true>(&m, here, bound, batch, &mut a),
+                        gas.sift::<false>(&m, here, bound, batch, &mut b),
+                    );
+                    let (mut c, mut d) = (vec![Kept::NONE; BATCH], vec![Kept::NONE; BATCH]);
+                    // SAFETY: SSE2 is part of every x86-64 processor.
+                    #[allow(unsafe_code)]
+                    let lanes = unsafe {
+                        (
+                            gas.sift_lanes::<true>(&m, here, bound, batch, &mut c),
+                            gas.sift_lanes::<false>(&m, here, bound, batch, &mut d),
+                        )
+                    };
+                    assert_eq!(scalar, lanes, "sphere {id}: kept counts");
+                    let bits = |k: &Kept| {
+                        (
+                            k.k,
+                            k.c0.to_bits(),
+                            k.c1.to_bits(),
+                            k.base.to_bits(),
+                            k.clear,
+                        )
+                    };
+                    for (x, y) in a[..scalar.0]
+                        .iter()
+                        .zip(&c)
+                        .chain(b[..scalar.1].iter().zip(&d))
+                    {
+                        assert_eq!(bits(x), bits(y), "sphere {id}");
+                    }
+                    checked += scalar.0 + scalar.1;
+                }
+            }
+        }
+        checked
+    }
+
+    /// Spheres on a jittered lattice in a small box (many pairs meet through images), run
+    /// on so that plans start at different times: the lanes sift as the scalar pass does,
+    /// after each of the first events (the colliding spheres' plans start now) and later.
+    #[test]
+    fn lanes_sift_as_the_scalar_pass() {
+        let mut state = 99u64;
+        let mut rand = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as Real / (1u64 << 53) as Real - 0.5
+        };
+        let cell = PeriodicBox {
+            min: Vec3::ZERO,
+            max: Vec3::splat(8.0),
+        };
+        let spacing = 8.0 / 7.0;
+        let mut spheres = Vec::new();
+        for i in 0..250 {
+            let site = Vec3::new((i % 7) as Real, (i / 7 % 7) as Real, (i / 49) as Real);
+            let jitter = Vec3::new(rand(), rand(), rand()) * 0.2;
+            let p = (site + 0.5) * spacing + jitter;
+            let v = Vec3::new(rand(), rand(), rand()) * 4.0;
+            spheres.push((0.4, FlightPlan::linear(p, v)));
+        }
+        let mut gas = PeriodicSpheres::new(cell, &spheres).unwrap();
+        let mut checked = same_passes(&gas);
+        for _ in 0..20 {
+            assert!(gas.step(Real::INFINITY).unwrap());
+            checked += same_passes(&gas);
+        }
+        gas.advance_to(gas.now() + 1.0).unwrap();
+        checked += same_passes(&gas);
+        assert!(checked > 10_000, "{checked} pairs kept");
+    }
 }
