@@ -133,9 +133,10 @@ impl Lists {
         self.slots[at] = 0;
     }
 
-    /// Doubles the stride (a list is full): every row moves to its new place.
+    /// Widens every row (a list is full) by a quarter, at least 8 slots, so that rows stay
+    /// close to the longest list: every row moves to its new place.
     fn grow(&mut self) {
-        let stride = (self.stride + 8).min(u16::MAX as usize);
+        let stride = (self.stride + (self.stride / 4).max(8)).min(u16::MAX as usize);
         assert!(
             stride > self.stride,
             "a neighbour list holds at most 65534 spheres"

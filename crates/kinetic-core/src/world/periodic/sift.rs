@@ -89,7 +89,8 @@ impl PeriodicSpheres {
         len
     }
 
-    /// The first pass over a batch, as [`Self::sift`] gives it: in SSE2 lanes on x86-64.
+    /// The first pass over a batch, as the scalar pass (`sift`) gives it: in SSE2 lanes on
+    /// x86-64.
     #[inline]
     pub(super) fn first_pass<const STARTED_NOW: bool>(
         &self,
@@ -109,10 +110,10 @@ impl PeriodicSpheres {
         self.sift::<STARTED_NOW>(m, here, bound, batch, kept)
     }
 
-    /// [`Self::sift`] two pairs at a time in the two lanes of SSE2 registers: each lane takes
-    /// the scalar pass's operations in its order, so the coefficients are the same to the
-    /// bit. Each neighbour's motion goes into its lane from its own cache line, not through
-    /// memory.
+    /// The scalar pass (`sift`) two pairs at a time in the two lanes of SSE2 registers: each
+    /// lane takes the scalar pass's operations in its order, so the coefficients are the
+    /// same to the bit. Each neighbour's motion goes into its lane from its own cache line,
+    /// not through memory.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "sse2")]
     pub(super) fn sift_lanes<const STARTED_NOW: bool>(
@@ -287,6 +288,8 @@ mod tests {
     use super::*;
     use crate::FlightPlan;
     use crate::world::periodic::PeriodicBox;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
 
     /// Both passes over every sphere's list, with and without a bound: the same pairs kept,
     /// with the same coefficients and bases to the bit.
@@ -340,13 +343,8 @@ mod tests {
     /// after each of the first events (the colliding spheres' plans start now) and later.
     #[test]
     fn lanes_sift_as_the_scalar_pass() {
-        let mut state = 99u64;
-        let mut rand = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as Real / (1u64 << 53) as Real - 0.5
-        };
+        let mut rng = ChaCha8Rng::seed_from_u64(99);
+        let mut rand = || rng.random_range(-0.5..0.5);
         let cell = PeriodicBox {
             min: Vec3::ZERO,
             max: Vec3::splat(8.0),
