@@ -21,8 +21,7 @@ struct Filed {
 /// Rounds each of `x` to the nearest integer, for magnitudes below 2^51.
 #[inline]
 fn round(x: Real) -> Real {
-    const MAGIC: Real = 6_755_399_441_055_744.0; // 1.5 * 2^52
-    (x + MAGIC) - MAGIC
+    (x + super::ROUNDING) - super::ROUNDING
 }
 
 /// A uniform grid over one period of the box, each cell holding the list centres that lie in

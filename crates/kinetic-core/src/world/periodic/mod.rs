@@ -171,12 +171,15 @@ impl Period {
     }
 }
 
+/// Added to and taken off a number below 2^51 in magnitude, rounds it to the nearest integer
+/// (ties to even) without a library call: 1.5 * 2^52.
+const ROUNDING: Real = 6_755_399_441_055_744.0;
+
 /// Rounds each coordinate to the nearest integer (ties to even) for magnitudes below 2^51,
 /// without a library call.
 #[inline]
 fn round(v: Vec3) -> Vec3 {
-    const MAGIC: Real = 6_755_399_441_055_744.0; // 1.5 * 2^52
-    (v + MAGIC) - MAGIC
+    (v + ROUNDING) - ROUNDING
 }
 
 /// Elastic spheres in a periodic box: the whole simulation of a bulk hard-sphere fluid, with
