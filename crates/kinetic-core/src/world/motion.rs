@@ -6,7 +6,7 @@ use crate::plan::FlightPlan;
 
 /// A ball's linear motion (its plan without acceleration or spin) and radius.
 #[derive(Clone, Copy, Debug)]
-#[repr(align(64))]
+#[repr(C, align(64))]
 pub(crate) struct Motion {
     /// When the motion starts.
     pub(crate) t0: Real,

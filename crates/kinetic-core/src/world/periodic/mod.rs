@@ -237,6 +237,8 @@ pub struct PeriodicSpheres {
     spare_counts: [u64; 2],
     /// Room for the pairs a prediction keeps from a batch.
     kept: Vec<sift::Kept>,
+    /// Whether the first pass goes four pairs at a time (the processor has AVX).
+    wide: bool,
     /// Room for the spheres a relist finds.
     found: Vec<u32>,
 }

@@ -101,10 +101,15 @@ impl PeriodicSpheres {
         kept: &mut [Kept],
     ) -> usize {
         #[cfg(target_arch = "x86_64")]
-        // SAFETY: SSE2, which `sift_lanes` asks for, is part of every x86-64 processor.
+        // SAFETY: `wide` is set only where the processor has AVX, which `sift_wide` asks
+        // for; SSE2, which `sift_lanes` asks for, is part of every x86-64 processor.
         #[allow(unsafe_code)]
         unsafe {
-            self.sift_lanes::<STARTED_NOW>(m, here, bound, batch, kept)
+            if self.wide {
+                self.sift_wide::<STARTED_NOW>(m, here, bound, batch, kept)
+            } else {
+                self.sift_lanes::<STARTED_NOW>(m, here, bound, batch, kept)
+            }
         }
         #[cfg(not(target_arch = "x86_64"))]
         self.sift::<STARTED_NOW>(m, here, bound, batch, kept)
@@ -256,6 +261,182 @@ impl PeriodicSpheres {
         }
         len
     }
+
+    /// The scalar pass (`sift`) four pairs at a time in the four lanes of AVX registers, on
+    /// processors that have AVX: each lane takes the scalar pass's operations in its order,
+    /// so the coefficients are the same to the bit. Four motions are read whole, two
+    /// registers each, and transposed to one coordinate a register.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    pub(super) fn sift_wide<const STARTED_NOW: bool>(
+        &self,
+        m: &Motion,
+        here: Vec3,
+        bound: Real,
+        batch: &[u32],
+        kept: &mut [Kept],
+    ) -> usize {
+        use std::arch::x86_64::*;
+        let now = self.now;
+        let motion = &self.motion[..];
+        if !STARTED_NOW {
+            // No collision asked for these motions: they are asked for together first.
+            for &k in batch {
+                prefetch(&motion[k as usize]);
+            }
+        }
+        let p = &self.period;
+        let splat = _mm256_set1_pd;
+        let splat3 = |v: Vec3| [splat(v.x), splat(v.y), splat(v.z)];
+        let sign = splat(-0.0);
+        let abs = |x: __m256d| _mm256_andnot_pd(sign, x);
+        let select = |mask: __m256d, a: __m256d, b: __m256d| _mm256_blendv_pd(b, a, mask);
+        // SSE2's comparisons: ordered (false where either is NaN).
+        let lt = |a: __m256d, b: __m256d| _mm256_cmp_pd::<_CMP_LT_OS>(a, b);
+        let le = |a: __m256d, b: __m256d| _mm256_cmp_pd::<_CMP_LE_OS>(a, b);
+        let eq = |a: __m256d, b: __m256d| _mm256_cmp_pd::<_CMP_EQ_OQ>(a, b);
+        let (zero, two, now4) = (splat(0.0), splat(2.0), splat(now));
+        let (here, half, side, inv) = (
+            splat3(here),
+            splat3(p.half_side),
+            splat3(p.side),
+            splat3(p.inv_side),
+        );
+        let (mp, mv, mt0) = (splat3(m.position), splat3(m.velocity), splat(m.t0));
+        let radius = splat(m.radius);
+        let magic = splat(super::ROUNDING);
+        let (bound4, slack) = (splat(bound), splat(bound.abs() * 1e-15));
+        let (infinity, widen) = (splat(Real::INFINITY), splat(1.0 + 1e-9));
+        let ahead_now = _mm256_sub_pd(bound4, now4);
+        let finite_now = lt(abs(ahead_now), infinity);
+        let reach_bound_now = _mm256_add_pd(_mm256_mul_pd(ahead_now, widen), slack);
+        let dot = |u: &[__m256d; 3], v: &[__m256d; 3]| {
+            _mm256_add_pd(
+                _mm256_add_pd(_mm256_mul_pd(u[0], v[0]), _mm256_mul_pd(u[1], v[1])),
+                _mm256_mul_pd(u[2], v[2]),
+            )
+        };
+        // A motion's halves: (t0, position) and (velocity, radius).
+        let halves = |k: u32| {
+            let m = &motion[k as usize];
+            let (x, v) = (m.position, m.velocity);
+            (
+                _mm256_set_pd(x.z, x.y, x.x, m.t0),
+                _mm256_set_pd(m.radius, v.z, v.y, v.x),
+            )
+        };
+        let lanes = |x: __m256d| {
+            let (lo, hi) = (_mm256_castpd256_pd128(x), _mm256_extractf128_pd::<1>(x));
+            [
+                _mm_cvtsd_f64(lo),
+                _mm_cvtsd_f64(_mm_unpackhi_pd(lo, lo)),
+                _mm_cvtsd_f64(hi),
+                _mm_cvtsd_f64(_mm_unpackhi_pd(hi, hi)),
+            ]
+        };
+        let mut len = 0;
+        for quad in batch.chunks(4) {
+            let last = quad[quad.len() - 1];
+            let at = |j: usize| *quad.get(j).unwrap_or(&last);
+            let (a, b, c, d4) = (halves(at(0)), halves(at(1)), halves(at(2)), halves(at(3)));
+            // The 4 x 4 transposes: one field of the four motions a register.
+            let (l0, l1) = (_mm256_unpacklo_pd(a.0, b.0), _mm256_unpacklo_pd(c.0, d4.0));
+            let (h0, h1) = (_mm256_unpackhi_pd(a.0, b.0), _mm256_unpackhi_pd(c.0, d4.0));
+            let t0 = _mm256_permute2f128_pd::<0x20>(l0, l1);
+            let pos = [
+                _mm256_permute2f128_pd::<0x20>(h0, h1),
+                _mm256_permute2f128_pd::<0x31>(l0, l1),
+                _mm256_permute2f128_pd::<0x31>(h0, h1),
+            ];
+            let (l0, l1) = (_mm256_unpacklo_pd(a.1, b.1), _mm256_unpacklo_pd(c.1, d4.1));
+            let (h0, h1) = (_mm256_unpackhi_pd(a.1, b.1), _mm256_unpackhi_pd(c.1, d4.1));
+            let vel = [
+                _mm256_permute2f128_pd::<0x20>(l0, l1),
+                _mm256_permute2f128_pd::<0x20>(h0, h1),
+                _mm256_permute2f128_pd::<0x31>(l0, l1),
+            ];
+            let radii = _mm256_permute2f128_pd::<0x31>(h0, h1);
+            let dt = _mm256_sub_pd(now4, t0);
+            let mut d = [zero; 3];
+            let mut near = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+            for x in 0..3 {
+                d[x] = _mm256_sub_pd(here[x], _mm256_add_pd(pos[x], _mm256_mul_pd(vel[x], dt)));
+                near = _mm256_and_pd(near, lt(abs(d[x]), half[x]));
+            }
+            // The image shift, zero in a lane whose pair is near.
+            let mut shift = [zero; 3];
+            if _mm256_movemask_pd(near) != 15 {
+                for x in 0..3 {
+                    let whole =
+                        _mm256_sub_pd(_mm256_add_pd(_mm256_mul_pd(d[x], inv[x]), magic), magic);
+                    shift[x] = _mm256_andnot_pd(near, _mm256_mul_pd(whole, side[x]));
+                    d[x] = _mm256_sub_pd(d[x], shift[x]);
+                }
+            }
+            let reach = _mm256_add_pd(radius, radii);
+            let threshold2 = _mm256_mul_pd(reach, reach);
+            let w = [
+                _mm256_sub_pd(mv[0], vel[0]),
+                _mm256_sub_pd(mv[1], vel[1]),
+                _mm256_sub_pd(mv[2], vel[2]),
+            ];
+            let (base, at_now, c0, c1, gap_now);
+            if STARTED_NOW {
+                base = now4;
+                at_now = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+                c0 = _mm256_sub_pd(dot(&d, &d), threshold2);
+                c1 = _mm256_mul_pd(two, dot(&d, &w));
+                gap_now = c0;
+            } else {
+                let later = select(lt(t0, mt0), mt0, t0);
+                base = select(lt(later, now4), later, now4);
+                at_now = eq(base, now4);
+                let (ta, tb) = (_mm256_sub_pd(base, mt0), _mm256_sub_pd(base, t0));
+                let mut db = [zero; 3];
+                for x in 0..3 {
+                    let ma = _mm256_add_pd(mp[x], _mm256_mul_pd(mv[x], ta));
+                    let mb = _mm256_add_pd(pos[x], _mm256_mul_pd(vel[x], tb));
+                    db[x] = select(at_now, d[x], _mm256_sub_pd(_mm256_sub_pd(ma, mb), shift[x]));
+                }
+                c0 = _mm256_sub_pd(dot(&db, &db), threshold2);
+                c1 = _mm256_mul_pd(two, dot(&db, &w));
+                gap_now = select(at_now, c0, _mm256_sub_pd(dot(&d, &d), threshold2));
+            }
+            let apart = _mm256_and_pd(lt(zero, c0), lt(zero, gap_now));
+            let (finite, reach_bound) = if STARTED_NOW {
+                (finite_now, reach_bound_now)
+            } else {
+                let ahead = _mm256_sub_pd(bound4, base);
+                (
+                    lt(abs(ahead), infinity),
+                    _mm256_add_pd(_mm256_mul_pd(ahead, widen), slack),
+                )
+            };
+            let after_bound = _mm256_and_pd(
+                finite,
+                lt(_mm256_mul_pd(_mm256_xor_pd(c1, sign), reach_bound), c0),
+            );
+            let parting = _mm256_and_pd(_mm256_and_pd(le(c0, zero), lt(zero, c1)), at_now);
+            let none = _mm256_or_pd(
+                parting,
+                _mm256_and_pd(apart, _mm256_or_pd(le(zero, c1), after_bound)),
+            );
+            let keep = !_mm256_movemask_pd(none) & ((1 << quad.len()) - 1);
+            let apart = _mm256_movemask_pd(apart);
+            let (c0s, c1s, bases) = (lanes(c0), lanes(c1), lanes(base));
+            for (j, &k) in quad.iter().enumerate() {
+                kept[len] = Kept {
+                    k,
+                    c0: c0s[j],
+                    c1: c1s[j],
+                    base: bases[j],
+                    clear: apart >> j & 1 != 0,
+                };
+                len += (keep >> j & 1) as usize;
+            }
+        }
+        len
+    }
 }
 
 /// Neighbours sifted in one batch.
@@ -291,11 +472,38 @@ mod tests {
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
-    /// Both passes over every sphere's list, with and without a bound: the same pairs kept,
-    /// with the same coefficients and bases to the bit.
+    /// The lanes' passes (two pairs, and four where the processor has AVX) over every
+    /// sphere's list, with and without a bound: the same pairs kept as by the scalar pass,
+    /// with the same coefficients and bases to the bit. Returns the pairs compared.
     fn same_passes(gas: &PeriodicSpheres) -> usize {
+        type Pass = fn(&PeriodicSpheres, &Motion, Vec3, Real, &[u32], &mut [Kept]) -> usize;
+        // SAFETY (each): SSE2 is part of every x86-64 processor; AVX is asked for below.
+        #[allow(unsafe_code)]
+        let mut passes: Vec<(&str, Pass, Pass)> = vec![(
+            "two lanes",
+            |g, m, h, b, batch, k| unsafe { g.sift_lanes::<true>(m, h, b, batch, k) },
+            |g, m, h, b, batch, k| unsafe { g.sift_lanes::<false>(m, h, b, batch, k) },
+        )];
+        if std::arch::is_x86_feature_detected!("avx") {
+            #[allow(unsafe_code)]
+            passes.push((
+                "four lanes",
+                |g, m, h, b, batch, k| unsafe { g.sift_wide::<true>(m, h, b, batch, k) },
+                |g, m, h, b, batch, k| unsafe { g.sift_wide::<false>(m, h, b, batch, k) },
+            ));
+        }
+        let bits = |k: &Kept| {
+            (
+                k.k,
+                k.c0.to_bits(),
+                k.c1.to_bits(),
+                k.base.to_bits(),
+                k.clear,
+            )
+        };
         let mut checked = 0;
         let (mut a, mut b) = (vec![Kept::NONE; BATCH], vec![Kept::NONE; BATCH]);
+        let (mut c, mut d) = (vec![Kept::NONE; BATCH], vec![Kept::NONE; BATCH]);
         for id in 0..gas.len() as u32 {
             let m = gas.motion[id as usize];
             let here = m.at(gas.now);
@@ -305,33 +513,18 @@ mod tests {
                         gas.sift::<true>(&m, here, bound, batch, &mut a),
                         gas.sift::<false>(&m, here, bound, batch, &mut b),
                     );
-                    let (mut c, mut d) = (vec![Kept::NONE; BATCH], vec![Kept::NONE; BATCH]);
-                    // SAFETY: SSE2 is part of every x86-64 processor.
-                    #[allow(unsafe_code)]
-                    let lanes = unsafe {
-                        (
-                            gas.sift_lanes::<true>(&m, here, bound, batch, &mut c),
-                            gas.sift_lanes::<false>(&m, here, bound, batch, &mut d),
-                        )
-                    };
-                    assert_eq!(scalar, lanes, "sphere {id}: kept counts");
-                    let bits = |k: &Kept| {
-                        (
-                            k.k,
-                            k.c0.to_bits(),
-                            k.c1.to_bits(),
-                            k.base.to_bits(),
-                            k.clear,
-                        )
-                    };
-                    for (x, y) in a[..scalar.0]
-                        .iter()
-                        .zip(&c)
-                        .chain(b[..scalar.1].iter().zip(&d))
-                    {
-                        assert_eq!(bits(x), bits(y), "sphere {id}");
+                    for &(name, now_pass, later_pass) in &passes {
+                        let lanes = (
+                            now_pass(gas, &m, here, bound, batch, &mut c),
+                            later_pass(gas, &m, here, bound, batch, &mut d),
+                        );
+                        assert_eq!(scalar, lanes, "sphere {id}: kept counts, {name}");
+                        let pairs = a[..scalar.0].iter().zip(&c);
+                        for (x, y) in pairs.chain(b[..scalar.1].iter().zip(&d)) {
+                            assert_eq!(bits(x), bits(y), "sphere {id}, {name}");
+                        }
+                        checked += scalar.0 + scalar.1;
                     }
-                    checked += scalar.0 + scalar.1;
                 }
             }
         }
