@@ -1,6 +1,7 @@
 //! The first pass of a prediction over a batch of neighbours: each pair's gap coefficients,
 //! with no branch that depends on the pair, keeping the few pairs that may fail before the
-//! bound. On x86-64 the pairs go two at a time in SSE2 lanes, each lane with the scalar
+//! bound. On x86-64 the pairs go four at a time in AVX lanes where the processor has AVX
+//! (found at run time), two at a time in SSE2 lanes otherwise, each lane with the scalar
 //! pass's operations in order.
 
 use super::{Motion, PeriodicSpheres};
