@@ -155,7 +155,8 @@ impl PeriodicSpheres {
             event_counts: [0; 4],
             spare_counts: [0; 2],
             kept: Vec::new(),
-            wide: wide_lanes(),
+            #[cfg(target_arch = "x86_64")]
+            wide: std::arch::is_x86_feature_detected!("avx"),
             found: Vec::new(),
         };
         gas.list_all();
@@ -227,17 +228,5 @@ impl PeriodicSpheres {
         // The old neighbours still stamped as listed left.
         self.lists.drop_left(id, was);
         self.grid.insert(id, centre, radius);
-    }
-}
-
-/// Whether the processor has AVX, for the first pass's four-pair lanes.
-fn wide_lanes() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::arch::is_x86_feature_detected!("avx")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
     }
 }

@@ -238,6 +238,7 @@ pub struct PeriodicSpheres {
     /// Room for the pairs a prediction keeps from a batch.
     kept: Vec<sift::Kept>,
     /// Whether the first pass goes four pairs at a time (the processor has AVX).
+    #[cfg(target_arch = "x86_64")]
     wide: bool,
     /// Room for the spheres a relist finds.
     found: Vec<u32>,
