@@ -137,7 +137,7 @@ impl PeriodicSpheres {
         let sign = splat(-0.0);
         let abs = |x: __m256d| _mm256_andnot_pd(sign, x);
         let select = |mask: __m256d, a: __m256d, b: __m256d| _mm256_blendv_pd(b, a, mask);
-        // SSE2's comparisons: ordered (false where either is NaN).
+        // The scalar pass's comparisons: ordered (false where either side is NaN).
         let lt = |a: __m256d, b: __m256d| _mm256_cmp_pd::<_CMP_LT_OS>(a, b);
         let le = |a: __m256d, b: __m256d| _mm256_cmp_pd::<_CMP_LE_OS>(a, b);
         let eq = |a: __m256d, b: __m256d| _mm256_cmp_pd::<_CMP_EQ_OQ>(a, b);
