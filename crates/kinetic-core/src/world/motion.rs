@@ -4,7 +4,8 @@
 use crate::math::{Real, Vec3};
 use crate::plan::FlightPlan;
 
-/// A ball's linear motion (its plan without acceleration or spin) and radius.
+/// A ball's linear motion (its plan without acceleration or spin) and radius: one cache line,
+/// its fields in this order (the periodic structure's lanes read it as two 32-byte halves).
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
 pub(crate) struct Motion {
