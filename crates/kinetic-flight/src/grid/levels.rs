@@ -89,7 +89,7 @@ impl Grid {
             lo: std::array::from_fn(|k| ScalarKey::from_plan(plan, k, lo[k])),
             hi: std::array::from_fn(|k| ScalarKey::from_plan(plan, k, hi[k])),
             tracks: Vec::new(),
-            pairs: Vec::new(),
+            pairs: Default::default(),
             region: None,
         }
     }

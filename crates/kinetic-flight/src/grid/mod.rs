@@ -128,7 +128,7 @@ struct Member {
     /// Its own level first, then the occupied levels above it.
     tracks: Vec<Track>,
     /// Its grid pairs' slots.
-    pairs: Vec<u32>,
+    pairs: visitors::Ids,
     /// A fast object's region (it then has no tracks and is in no cell): the box its box
     /// sweeps over the least flight, widened by [`FAST_MARGIN`] of its width.
     region: Option<(Vec3, Vec3)>,

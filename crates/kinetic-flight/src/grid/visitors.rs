@@ -1,12 +1,17 @@
 //! A cell's objects: its owners, and its visitors from the levels below (a short list while
-//! there are few, a set once there are many).
+//! there are few, a set once there are many). Most cells hold a few objects: their lists are
+//! kept inline, so a cell entered and left costs no allocation.
 
 use rustc_hash::FxHashSet;
+use smallvec::SmallVec;
+
+/// A cell's owners, or its visitors while few: inline up to this many.
+pub(super) type Ids = SmallVec<[u32; 4]>;
 
 /// A cell's objects: those living at its level, and visitors from below.
 #[derive(Clone, Debug, Default)]
 pub(super) struct Cell {
-    pub(super) owners: Vec<u32>,
+    pub(super) owners: Ids,
     pub(super) visitors: Visitors,
 }
 
@@ -14,7 +19,7 @@ pub(super) struct Cell {
 /// many (a coarse cell may hold thousands of small visitors).
 #[derive(Clone, Debug)]
 pub(super) enum Visitors {
-    Few(Vec<u32>),
+    Few(Ids),
     Many(FxHashSet<u32>),
 }
 
@@ -23,7 +28,7 @@ const FEW_VISITORS: usize = 16;
 
 impl Default for Visitors {
     fn default() -> Self {
-        Visitors::Few(Vec::new())
+        Visitors::Few(Ids::new())
     }
 }
 
