@@ -120,14 +120,15 @@ impl Grid {
     /// Puts member `id` (already in `members`, no tracks) into the cells of its levels.
     pub(super) fn place(&mut self, id: u32, now: Real, changes: &mut Vec<PairChange>) {
         let level = self.member(id).level;
-        let levels: Vec<i32> = self.occupied.range(level..).copied().collect();
+        let levels = self.occupied.range(level..).count();
         self.members[id as usize]
             .as_mut()
             .expect("a member")
             .tracks
-            .reserve_exact(levels.len());
-        let mut keys = Vec::new();
-        for l in levels {
+            .reserve_exact(levels);
+        let mut keys = std::mem::take(&mut self.keys);
+        for k in 0..levels {
+            let l = *self.occupied.range(level..).nth(k).expect("an occupied level");
             let m = self.member(id);
             let track = match m.tracks.first() {
                 Some(own) => self.track_at(m, own, l, now),
@@ -143,6 +144,7 @@ impl Grid {
                 self.enter(id, key, l == level, now, changes);
             }
         }
+        self.keys = keys;
         self.schedule_member(id);
         self.fast_links(id, now, changes);
     }
@@ -157,13 +159,14 @@ impl Grid {
         {
             self.fast.swap_remove(i);
         }
-        let mut keys = Vec::new();
+        let mut keys = std::mem::take(&mut self.keys);
         for track in &tracks {
             Self::cells_of(track, None, &mut keys);
             for &key in &keys {
                 self.leave(id, key, track.level == level, changes);
             }
         }
+        self.keys = keys;
         // What is left are pairs with fast members, or a fast member's own.
         for i in self.member(id).pairs.clone() {
             let slot = self.slots[i as usize].as_ref().expect("a slot");

@@ -48,7 +48,7 @@ impl Grid {
         let owner = m.tracks[ti].level == m.level;
         let mut track = m.tracks[ti].clone();
         let [a, b] = track.cells[k];
-        let mut keys = Vec::new();
+        let mut keys = std::mem::take(&mut self.keys);
         // Which end of the range moves, the slab of cells entered or left, the new end.
         let (end, slab, moved, entering) = match kind {
             0 => (0, a - 1, a - 1, true),
@@ -105,6 +105,7 @@ impl Grid {
             }
             self.fast_links(id, now, changes);
         }
+        self.keys = keys;
         self.schedule_member(id);
     }
 

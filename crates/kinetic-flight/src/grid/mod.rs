@@ -177,6 +177,9 @@ pub struct Grid {
     crossings: u64,
     pair_events: u64,
     scratch: Vec<u32>,
+    /// Scratch lists of cells (an event's, a re-plan's old and new).
+    keys: Vec<CellKey>,
+    old_keys: Vec<CellKey>,
     /// The least flight: 0 for none (no object is ever fast).
     least_flight: Real,
     /// The fast objects.

@@ -45,7 +45,10 @@ impl Grid {
         // Enter the new cells before leaving the old, so that shared cells keep their pairs.
         let old = m.tracks.clone();
         let level = m.level;
-        let (mut before, mut after) = (Vec::new(), Vec::new());
+        let (mut before, mut after) = (
+            std::mem::take(&mut self.old_keys),
+            std::mem::take(&mut self.keys),
+        );
         for (ti, old_track) in old.iter().enumerate() {
             let m = self.member(id);
             let track = if ti == 0 {
@@ -68,6 +71,7 @@ impl Grid {
             }
             self.members[id as usize].as_mut().expect("a member").tracks[ti] = track;
         }
+        (self.old_keys, self.keys) = (before, after);
         self.schedule_member(id);
         self.fast_links(id, now, changes);
         self.recertify_pairs(id, now, changes);
