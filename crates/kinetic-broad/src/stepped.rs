@@ -1,16 +1,26 @@
 //! The stepped grid: the pairs of a set of boxes whose boxes overlap, found from scratch.
 //!
 //! Boxes are rounded outwards to single precision. Cells are as wide as the widest *small*
-//! box (at most [`SMALL`] times the median box), so two small boxes that overlap have their
-//! centres in the same cell or in neighbouring ones. Each small box is filed once, in the
-//! cell of its centre; the cells are hashed into a table about as long as the boxes, and the
-//! boxes sorted by table slot with a counting sort, each with a copy of its box, so that a
-//! slot's boxes lie together in memory. A slot's boxes are tested against each other and
-//! against those of the 13 neighbouring cells that come after it (each pair of cells once).
-//! A wider box looks up the cells its overlapping small boxes can have their centres in, and
-//! one too wide for [`WIDE_CELLS`] cells (a ground, a wall) is tested against every box; the
-//! wide ones are tested against each other. Cells that hash alike cost only tests: pairs
-//! found twice are deduplicated. Nothing is allocated once the buffers have grown.
+//! box (at most [`SMALL`] times the median box), so a small box overlaps at most two cells a
+//! side and two small boxes that overlap have their centres in the same cell or in
+//! neighbouring ones. The boxes are sorted by table slot with a counting sort, each with a
+//! copy of its box, so that a slot's boxes lie together in memory:
+//!
+//! - **Dense** (the boxes' cells fill a table of at most [`DENSE_CELLS`] slots a box: a pile,
+//!   a rain, a gas): each small box is filed once, in the cell of its centre, and tested
+//!   against the boxes of its own cell and of the 13 neighbouring cells after it (each pair
+//!   of cells once), which lie in five runs of the table.
+//! - **Hashed** (boxes scattered over a space far wider than they fill: debris flying
+//!   apart): the cells are hashed into a table about [`HASHED_SLOTS`] times as long as the
+//!   boxes, and each small box is filed in every cell it overlaps. Boxes are tested only
+//!   within a slot, and a pair is taken in the cell of the upper of their lower corners, so
+//!   an empty neighbourhood costs nothing (looking up 13 neighbouring cells a box cost the
+//!   scattered burst twice as much).
+//!
+//! A wider box looks up the cells its overlapping small boxes can be filed in, and one too
+//! wide for [`WIDE_CELLS`] cells (a ground, a wall) is tested against every box; the wide
+//! ones are tested against each other. Cells that hash alike cost only tests: pairs found
+//! twice are deduplicated. Nothing is allocated once the buffers have grown.
 
 use glam::Vec3A;
 use kinetic_core::{Real, Vec3};
@@ -26,22 +36,8 @@ const DENSE_CELLS: i64 = 32;
 const INNER_FROM: usize = 32;
 /// The median is taken again every this many calls.
 const MEDIAN_EVERY: u32 = 16;
-/// The 13 neighbouring cells after a cell, in the order of `(x, y, z)`.
-const FORWARD: [[i64; 3]; 13] = [
-    [0, 0, 1],
-    [0, 1, -1],
-    [0, 1, 0],
-    [0, 1, 1],
-    [1, -1, -1],
-    [1, -1, 0],
-    [1, -1, 1],
-    [1, 0, -1],
-    [1, 0, 0],
-    [1, 0, 1],
-    [1, 1, -1],
-    [1, 1, 0],
-    [1, 1, 1],
-];
+/// A hashed table has about this many slots a box (a box is filed in up to eight cells).
+const HASHED_SLOTS: usize = 4;
 
 /// An axis-aligned box `(min, max)`.
 pub(crate) type Aabb = (Vec3, Vec3);
@@ -209,12 +205,27 @@ impl SteppedGrid {
         self.dense = self.dense_grid();
         let len = match self.dense {
             Some((_, n)) => (n[0] * n[1] * n[2]) as usize,
-            None => self.boxes.len().next_power_of_two(),
+            None => (HASHED_SLOTS * self.boxes.len()).next_power_of_two(),
         };
         self.mask = len as u32 - 1;
         for (i, c) in self.cells.iter().enumerate() {
             match c {
-                Some(c) => self.slots.push((self.slot(*c), i as u32)),
+                // Dense: in the cell of its centre.
+                Some(c) if self.dense.is_some() => self.slots.push((self.slot(*c), i as u32)),
+                // Hashed: in every cell it overlaps (at most two a side: a cell is wider
+                // than a small box).
+                Some(_) => {
+                    let b = &self.boxes[i];
+                    let lo = self.cell_of(std::array::from_fn(|k| b[0][k] as f64));
+                    let hi = self.cell_of(std::array::from_fn(|k| b[1][k] as f64));
+                    for x in lo[0]..=hi[0] {
+                        for y in lo[1]..=hi[1] {
+                            for z in lo[2]..=hi[2] {
+                                self.slots.push((self.slot([x, y, z]), i as u32));
+                            }
+                        }
+                    }
+                }
                 None => self.wide.push(i as u32),
             }
         }
@@ -282,22 +293,33 @@ impl SteppedGrid {
                     }
                 }
             }
+            // Hashed: boxes meet only within a cell they share, and a pair is taken in one of
+            // them, the cell of the upper of their lower corners (both overlap it when they
+            // overlap). Cells that hash alike may still give a pair twice.
             None => {
                 for &s in &self.occupied {
                     let run = self.run(s);
                     for (k, (a, i)) in run.iter().enumerate() {
-                        test(a, *i, &run[k + 1..], out);
-                        let c = self.cells[*i as usize].unwrap_or_default();
-                        for d in FORWARD {
-                            let t = self.slot([c[0] + d[0], c[1] + d[1], c[2] + d[2]]);
-                            test(a, *i, self.run(t), out);
+                        for (b, j) in &run[k + 1..] {
+                            if overlap(a, b) && i != j {
+                                let corner = a[0].max(b[0]);
+                                let home = self.cell_of(std::array::from_fn(|k| corner[k] as f64));
+                                if self.slot(home) == s {
+                                    push(out, keep, self.ids[*i as usize], self.ids[*j as usize]);
+                                }
+                            }
                         }
                     }
                 }
             }
         }
-        // Wide boxes: against the small boxes whose centres can lie near, or against all.
-        let half = 0.5 / self.inv;
+        // Wide boxes: against the small boxes whose centres can lie near (dense) or that are
+        // filed in its cells (hashed), or against all.
+        let half = if self.dense.is_some() {
+            0.5 / self.inv
+        } else {
+            0.0
+        };
         for (n, &w) in self.wide.iter().enumerate() {
             let a = self.boxes[w as usize];
             let lo = self.cell_of(std::array::from_fn(|k| a[0][k] as f64 - half));
@@ -436,9 +458,21 @@ mod tests {
             .iter()
             .filter(|p| out.binary_search(p).is_err())
             .collect();
+        // Boxes are rounded outwards to single precision: a pair apart by less than that
+        // may be given too.
+        let near = |a: u32, b: u32| {
+            let find = |id: u32| items.iter().find(|(i, _)| *i == id).expect("an item").1;
+            let (a, b) = (find(a), find(b));
+            let grow = |x: Aabb| {
+                let out = (x.0.abs() + x.1.abs()) * (2.0 * f32::EPSILON as Real);
+                (x.0 - out, x.1 + out)
+            };
+            let (a, b) = (grow(a), grow(b));
+            a.0.cmple(b.1).all() && b.0.cmple(a.1).all()
+        };
         let extra: Vec<_> = out
             .iter()
-            .filter(|p| want.binary_search(p).is_err())
+            .filter(|p| want.binary_search(p).is_err() && !near(p.0, p.1))
             .collect();
         assert!(
             missing.is_empty() && extra.is_empty(),
@@ -447,7 +481,7 @@ mod tests {
     }
 
     #[test]
-    fn sparse_boxes_in_hashed_cells_give_exactly_the_overlapping_pairs() {
+    fn scattered_boxes_with_a_few_wide_ones_give_exactly_the_overlapping_pairs() {
         let mut s = 7;
         let mut grid = SteppedGrid::default();
         for round in 0..4 {
@@ -468,6 +502,42 @@ mod tests {
                 items.push((id * 3 + round, b));
             }
             check(&mut grid, &items, &format!("round {round}"));
+        }
+    }
+
+    /// Clusters of boxes scattered over a space far wider than they fill: the cells are
+    /// hashed, each box is filed in every cell it overlaps, and boxes that overlap across
+    /// cell lines are found once each.
+    #[test]
+    fn clusters_far_apart_in_hashed_cells_give_exactly_the_overlapping_pairs() {
+        let mut s = 13;
+        let mut grid = SteppedGrid::default();
+        for round in 0..4 {
+            let mut items = Vec::new();
+            let mut centre = Vec3::ZERO;
+            for id in 0..600u32 {
+                if id % 6 == 0 {
+                    centre = Vec3::new(next(&mut s), next(&mut s), next(&mut s)) * 5000.0;
+                }
+                let c = centre + Vec3::new(next(&mut s), next(&mut s), next(&mut s)) * 2.0;
+                // Mostly small boxes, a few wide ones and one with a NaN.
+                let h = if id % 151 == 0 {
+                    Vec3::new(40.0, 0.5, 40.0)
+                } else {
+                    Vec3::splat(0.3 + next(&mut s) * 0.5)
+                };
+                let b = if id == 7 && round == 1 {
+                    (Vec3::NAN, Vec3::NAN)
+                } else {
+                    (c - h, c + h)
+                };
+                items.push((id * 5 + round, b));
+            }
+            check(&mut grid, &items, &format!("round {round}"));
+            assert!(
+                grid.dense.is_none(),
+                "round {round}: the cells were not hashed"
+            );
         }
     }
 

@@ -128,7 +128,11 @@ impl Grid {
             .reserve_exact(levels);
         let mut keys = std::mem::take(&mut self.keys);
         for k in 0..levels {
-            let l = *self.occupied.range(level..).nth(k).expect("an occupied level");
+            let l = *self
+                .occupied
+                .range(level..)
+                .nth(k)
+                .expect("an occupied level");
             let m = self.member(id);
             let track = match m.tracks.first() {
                 Some(own) => self.track_at(m, own, l, now),
