@@ -25,6 +25,7 @@
 #![forbid(unsafe_code)]
 
 mod engine;
+mod fat_pairs;
 mod hold;
 mod motions;
 mod pairs;

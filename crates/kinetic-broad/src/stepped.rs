@@ -73,6 +73,8 @@ pub(crate) struct SteppedGrid {
     /// This call's wide boxes, and each box's cell (`None`: wide).
     wide: Vec<u32>,
     cells: Vec<Option<[i64; 3]>>,
+    /// Whether the table holds this call's boxes (not when there were fewer than two).
+    built: bool,
     /// This call's boxes and their ids.
     boxes: Vec<Small>,
     ids: Vec<u32>,
@@ -103,6 +105,12 @@ fn width(b: &Small) -> f32 {
 /// Whether two boxes overlap (touching counts).
 fn overlap(a: &Small, b: &Small) -> bool {
     a[0].cmple(b[1]).all() & b[0].cmple(a[1]).all()
+}
+
+/// Whether boxes `a` and `b` overlap as the grid finds them: rounded outwards to single
+/// precision, touching counting.
+pub(crate) fn overlapping(a: &Aabb, b: &Aabb) -> bool {
+    overlap(&small(a), &small(b))
 }
 
 /// `floor(x)` as an integer, saturating (no call into the C library's `floor`).
@@ -152,6 +160,53 @@ impl SteppedGrid {
         self.runs(s, s + 1)
     }
 
+    /// Pushes onto `out` the ids of the last call's boxes that overlap `q` as the grid
+    /// tests a pair (a box may come more than once).
+    pub(crate) fn overlapping_with(&self, q: &Aabb, out: &mut Vec<u32>) {
+        let q = small(q);
+        let mut all = !self.built;
+        if !all {
+            // Dense: small boxes are filed by their centres, half a cell from their edges.
+            let half = if self.dense.is_some() {
+                0.5 / self.inv
+            } else {
+                0.0
+            };
+            let lo = self.cell_of(std::array::from_fn(|k| q[0][k] as f64 - half));
+            let hi = self.cell_of(std::array::from_fn(|k| q[1][k] as f64 + half));
+            let cells = (0..3)
+                .map(|k| hi[k].saturating_sub(lo[k]).saturating_add(1).max(0))
+                .fold(1i64, |p, x| p.saturating_mul(x));
+            // A NaN box has no cells and meets nothing.
+            all = cells > WIDE_CELLS;
+            if !all {
+                for x in lo[0]..=hi[0] {
+                    for y in lo[1]..=hi[1] {
+                        for z in lo[2]..=hi[2] {
+                            for (b, j) in self.run(self.slot([x, y, z])) {
+                                if overlap(&q, b) {
+                                    out.push(self.ids[*j as usize]);
+                                }
+                            }
+                        }
+                    }
+                }
+                for &w in &self.wide {
+                    if overlap(&q, &self.boxes[w as usize]) {
+                        out.push(self.ids[w as usize]);
+                    }
+                }
+            }
+        }
+        if all {
+            for (b, id) in self.boxes.iter().zip(&self.ids) {
+                if overlap(&q, b) {
+                    out.push(*id);
+                }
+            }
+        }
+    }
+
     /// Whether the small boxes' cells make a table of at most [`DENSE_CELLS`] slots a box: the
     /// grid's least cell and size in cells, if so.
     fn dense_grid(&self) -> Option<([i64; 3], [i64; 3])> {
@@ -188,6 +243,7 @@ impl SteppedGrid {
 
     /// The pairs of this call's boxes that `keep` keeps, into `out` (empty).
     fn find(&mut self, keep: &dyn Fn(u32, u32) -> bool, out: &mut Vec<(u32, u32)>) {
+        self.built = false;
         if self.boxes.len() < 2 {
             return;
         }
@@ -256,6 +312,7 @@ impl SteppedGrid {
         // `starts[s]` is where slot `s + 1` starts: shift back.
         self.starts.copy_within(0..len, 1);
         self.starts[0] = 0;
+        self.built = true;
         // Small against small: within a cell, and with the cells after it.
         let test = |a: &Small, i: u32, run: &[(Small, u32)], out: &mut Vec<(u32, u32)>| {
             for (b, j) in run {

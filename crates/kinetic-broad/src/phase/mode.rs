@@ -31,7 +31,8 @@
 //! and deletes the others.
 
 use super::{BroadPhaseCore, REGION_MARGIN, REGION_STEPS};
-use crate::stepped::{Aabb, SteppedGrid};
+use crate::fat_pairs::FatPairs;
+use crate::stepped::Aabb;
 use crate::{Engine, Hold, PairEvent};
 use kinetic_core::{Real, Vec3};
 use kinetic_flight::{Choice, LOOSE_TRAVEL};
@@ -63,7 +64,9 @@ const DWELL: u64 = 8;
 /// The stepped mode's state.
 #[derive(Debug, Default)]
 pub(super) struct Stepped {
-    grid: SteppedGrid,
+    grid: FatPairs,
+    /// This call's boxes swept over the step, and their moves (a buffer).
+    swept: Vec<Option<(Aabb, Vec3)>>,
     /// Per collider index, its box now and how far it moves over the coming step (`None`:
     /// to be worked out).
     boxes: Vec<Option<(Aabb, Vec3)>>,
@@ -394,15 +397,13 @@ impl BroadPhaseCore {
             (Some(x), Some(y)) => meet_within_step(x, y),
             _ => true,
         };
-        st.grid.pairs(
-            boxes.iter().enumerate().filter_map(|(i, b)| {
-                let ((lo, hi), d) = (*b)?;
-                let d = d - frame;
-                Some((i as u32, (lo + d.min(Vec3::ZERO), hi + d.max(Vec3::ZERO))))
-            }),
-            &keep,
-            &mut st.found,
-        );
+        st.swept.clear();
+        st.swept.extend(boxes.iter().map(|b| {
+            let ((lo, hi), d) = (*b)?;
+            let r = d - frame;
+            Some(((lo + r.min(Vec3::ZERO), hi + r.max(Vec3::ZERO)), d))
+        }));
+        st.grid.pairs(&st.swept, &keep, &mut st.found);
         // The difference, in order: deletes of pairs gone, adds of pairs new.
         let (old, new) = (&st.reported, &st.found);
         let (mut i, mut j) = (0, 0);

@@ -1,0 +1,397 @@
+//! The stepped grid's pairs kept from step to step: each box is given a fat box that covers
+//! where it is going over the next few steps, the pairs of fat boxes that overlap are found
+//! with the [`SteppedGrid`] now and then, and each step tests only those candidates.
+//!
+//! The pairs are exactly the grid's own: two boxes inside fat boxes that do not overlap do
+//! not overlap, and each candidate is tested as the grid tests a pair (single precision,
+//! rounded outwards). A box that leaves its fat box, or one that comes or goes, gets a new
+//! fat box whose candidates are looked up in the grid the fat boxes were filed in (passing
+//! over the boxes it holds stale) and among the other boxes re-fattened since. Once more
+//! than [`MOVED_SHARE`] of the boxes have been re-fattened, all are filed afresh. A box's fat
+//! box is its box swept over [`AHEAD`] steps of its own move, grown by [`MARGIN`] of its
+//! width: a body in steady flight keeps it for those steps, a body at rest for as long as it
+//! rests.
+//!
+//! Fat boxes pay where they last: debris, a burst flying apart, kinematic bodies on their
+//! paths. In a pile or a gas the pairs are many and bodies are pushed out of their fat
+//! boxes at once: there each step finds the pairs from scratch, and fat boxes are tried only
+//! once the pairs found are at most one for [`SPARSE`] boxes. Fat boxes filed afresh fewer
+//! than [`MIN_LIFE`] calls after the last time are tried again only after [`FIRST_WAIT`]
+//! calls, then twice as many each time they fail, up to [`LAST_WAIT`].
+
+use crate::stepped::{Aabb, SteppedGrid, overlapping};
+use kinetic_core::{Real, Vec3};
+
+/// A fat box covers this many steps of its box's move...
+const AHEAD: Real = 8.0;
+/// ... and this share of its width on every side.
+const MARGIN: Real = 0.05;
+/// All fat boxes are filed afresh once more than one box in this many has been re-fattened.
+const MOVED_SHARE: usize = 16;
+/// Fat boxes are tried only where the pairs found from scratch were at most one for this
+/// many boxes: a world flying apart, not a pile or a gas, where fat boxes would hold many
+/// more pairs and last no time.
+const SPARSE: usize = 4;
+/// The work of a call, in boxes filed in the grid: a box checked against its fat box...
+const CHECK_WORK: Real = 0.25;
+/// ... a pair of boxes tested...
+const TEST_WORK: Real = 0.5;
+/// ... a box re-fattened and its candidates looked up.
+const QUERY_WORK: Real = 4.0;
+/// Works are averaged over about this many calls.
+const SMOOTHING: Real = 8.0;
+/// Fat boxes filed afresh fewer than this many calls after the last time, or whose calls
+/// took more work than finding the pairs from scratch, did not pay...
+const MIN_LIFE: u64 = 4;
+/// ... and the pairs are found from scratch for this many calls...
+const FIRST_WAIT: u64 = 32;
+/// ... doubled at each failure up to this many.
+const LAST_WAIT: u64 = 1024;
+
+/// Pairs of overlapping boxes, kept between calls while the boxes keep within fat boxes.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct FatPairs {
+    /// The grid the pairs are found in from scratch, and the one the fat boxes are filed in.
+    grid: SteppedGrid,
+    filed: SteppedGrid,
+    /// Per index, the fat box (`None`: no box), and whether it was re-fattened since the
+    /// fat boxes were filed (its entry in `filed` is stale).
+    fat: Vec<Option<Aabb>>,
+    moved: Vec<bool>,
+    /// Per index, the call at which it last left its fat box.
+    left: Vec<u64>,
+    /// The indices re-fattened since the fat boxes were filed.
+    refat: Vec<u32>,
+    /// The pairs of overlapping fat boxes, sorted.
+    candidates: Vec<(u32, u32)>,
+    /// Whether the fat boxes are in use, and the call at which they were last filed.
+    ready: bool,
+    built: u64,
+    /// Calls before which the pairs are found from scratch, and how long the last wait was.
+    plain_until: u64,
+    wait: u64,
+    /// Whether the last pairs found from scratch were few enough to try fat boxes.
+    sparse: bool,
+    /// The work of a call with fat boxes, and of one finding the pairs from scratch,
+    /// averaged over about [`SMOOTHING`] calls (in boxes filed).
+    work: Real,
+    plain_work: Real,
+    /// Scratch: the indices leaving their fat boxes this call, and the pairs they gain.
+    leaving: Vec<u32>,
+    gained: Vec<(u32, u32)>,
+    found: Vec<u32>,
+    merged: Vec<(u32, u32)>,
+    /// How many times the fat boxes were filed afresh, boxes re-fattened, and calls.
+    pub(crate) rebuilds: u64,
+    pub(crate) refattened: u64,
+    pub(crate) calls: u64,
+}
+
+impl FatPairs {
+    /// Puts the pairs `(a, b)`, `a < b`, of the boxes `boxes` (per index: the box and how far
+    /// it moves a step, `None` for none) that overlap and that `keep(a, b)` keeps into
+    /// `out`, sorted; what `out` held is cleared.
+    pub(crate) fn pairs(
+        &mut self,
+        boxes: &[Option<(Aabb, Vec3)>],
+        keep: &dyn Fn(u32, u32) -> bool,
+        out: &mut Vec<(u32, u32)>,
+    ) {
+        self.calls += 1;
+        if self.calls < self.plain_until || (!self.ready && !self.sparse) {
+            self.plain(boxes, keep, out);
+            return;
+        }
+        let refattened = self.refattened;
+        let kept = self.ready && self.update(boxes);
+        let mut work =
+            boxes.len() as Real * CHECK_WORK + (self.refattened - refattened) as Real * QUERY_WORK;
+        if !kept {
+            let pays = self.work <= self.plain_work;
+            if self.ready && (self.calls - self.built < MIN_LIFE || !pays) {
+                // They did not last: from scratch for a while.
+                self.wait = (2 * self.wait).clamp(FIRST_WAIT, LAST_WAIT);
+                self.plain_until = self.calls + self.wait;
+                self.ready = false;
+                self.plain(boxes, keep, out);
+                return;
+            }
+            if self.ready {
+                self.wait = 0;
+            }
+            self.file(boxes);
+            work += boxes.len() as Real + self.candidates.len() as Real * TEST_WORK;
+        }
+        out.clear();
+        for &(a, b) in &self.candidates {
+            if let (Some(x), Some(y)) = (boxes[a as usize], boxes[b as usize])
+                && overlapping(&x.0, &y.0)
+                && keep(a, b)
+            {
+                out.push((a, b));
+            }
+        }
+        // What the call took, against what finding its pairs from scratch would have.
+        work += self.candidates.len() as Real * TEST_WORK;
+        let plain = boxes.len() as Real + out.len() as Real * TEST_WORK;
+        self.work += (work - self.work) / SMOOTHING;
+        self.plain_work += (plain - self.plain_work) / SMOOTHING;
+    }
+
+    /// The pairs found from scratch (and whether they are few).
+    fn plain(
+        &mut self,
+        boxes: &[Option<(Aabb, Vec3)>],
+        keep: &dyn Fn(u32, u32) -> bool,
+        out: &mut Vec<(u32, u32)>,
+    ) {
+        let items = boxes.iter().enumerate();
+        let items = items.filter_map(|(i, b)| Some((i as u32, (*b)?.0)));
+        self.grid.pairs(items, keep, out);
+        self.sparse = SPARSE * out.len() <= boxes.len();
+    }
+
+    /// Every box given a fat box, filed afresh, and the pairs of fat boxes found.
+    fn file(&mut self, boxes: &[Option<(Aabb, Vec3)>]) {
+        if !self.ready {
+            // Fresh from scratch: fat boxes are given the benefit of the doubt.
+            self.work = 0.0;
+            self.plain_work = 0.0;
+        }
+        self.rebuilds += 1;
+        self.built = self.calls;
+        self.ready = true;
+        self.fat.clear();
+        self.fat.extend(boxes.iter().map(|b| b.map(fatten)));
+        self.moved.clear();
+        self.moved.resize(boxes.len(), false);
+        self.left.clear();
+        self.left.resize(boxes.len(), 0);
+        self.refat.clear();
+        let fat = self.fat.iter().enumerate();
+        let items = fat.filter_map(|(i, f)| Some((i as u32, (*f)?)));
+        self.filed.pairs(items, &|_, _| true, &mut self.candidates);
+    }
+
+    /// Gives the boxes that left their fat boxes (or came or went) new ones, and the
+    /// candidates with them; `false` when too many have been re-fattened since the fat
+    /// boxes were filed (or the boxes are not the same many), which files them afresh.
+    fn update(&mut self, boxes: &[Option<(Aabb, Vec3)>]) -> bool {
+        if self.fat.len() != boxes.len() {
+            return false;
+        }
+        self.leaving.clear();
+        for (i, (b, f)) in boxes.iter().zip(&self.fat).enumerate() {
+            let inside = match (b, f) {
+                (None, None) => true,
+                (Some(((lo, hi), _)), Some((flo, fhi))) => {
+                    lo.cmpge(*flo).all() && hi.cmple(*fhi).all()
+                }
+                _ => false,
+            };
+            if !inside {
+                self.leaving.push(i as u32);
+            }
+        }
+        if self.leaving.is_empty() {
+            return true;
+        }
+        let fresh = self.leaving.iter().filter(|&&i| !self.moved[i as usize]);
+        if (self.refat.len() + fresh.count()) * MOVED_SHARE > boxes.len() {
+            return false;
+        }
+        self.refattened += self.leaving.len() as u64;
+        // New fat boxes first, so that two leaving boxes see each other's.
+        for &i in &self.leaving {
+            self.fat[i as usize] = boxes[i as usize].map(fatten);
+            self.left[i as usize] = self.calls;
+            if !std::mem::replace(&mut self.moved[i as usize], true) {
+                self.refat.push(i);
+            }
+        }
+        // Their candidates: in the grid (passing over stale entries), and among the boxes
+        // re-fattened since it was filed.
+        self.gained.clear();
+        for &i in &self.leaving {
+            let Some(f) = self.fat[i as usize] else {
+                continue;
+            };
+            self.found.clear();
+            self.filed.overlapping_with(&f, &mut self.found);
+            self.found.retain(|&j| !self.moved[j as usize]);
+            for &j in &self.refat {
+                if let Some(g) = self.fat[j as usize]
+                    && overlapping(&f, &g)
+                {
+                    self.found.push(j);
+                }
+            }
+            for &j in &self.found {
+                if j != i {
+                    self.gained.push((i.min(j), i.max(j)));
+                }
+            }
+        }
+        self.gained.sort_unstable();
+        self.gained.dedup();
+        // The leaving boxes' old pairs go; the gained ones merge in.
+        let (left, call) = (&self.left, self.calls);
+        let leaving = |i: u32| left[i as usize] == call;
+        let (old, gained) = (&self.candidates, &self.gained);
+        self.merged.clear();
+        let mut g = gained.iter().peekable();
+        for &p in old.iter().filter(|&&(a, b)| !(leaving(a) || leaving(b))) {
+            while let Some(&&q) = g.peek()
+                && q < p
+            {
+                self.merged.push(q);
+                g.next();
+            }
+            self.merged.push(p);
+        }
+        self.merged.extend(g);
+        std::mem::swap(&mut self.candidates, &mut self.merged);
+        true
+    }
+}
+
+/// The fat box of box `b` moving `d` a step: swept over [`AHEAD`] steps of that move,
+/// grown by [`MARGIN`] of its width on every side. A NaN box stays NaN (and never holds).
+fn fatten(((lo, hi), d): (Aabb, Vec3)) -> Aabb {
+    let ahead = d * AHEAD;
+    let grow = Vec3::splat(MARGIN * (hi - lo).max_element());
+    (
+        lo + ahead.min(Vec3::ZERO) - grow,
+        hi + ahead.max(Vec3::ZERO) + grow,
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A small deterministic generator.
+    fn next(s: &mut u64) -> Real {
+        *s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (*s >> 11) as Real / (1u64 << 53) as Real
+    }
+
+    /// Boxes flying apart and boxes jostling in a heap, over many calls, with boxes coming
+    /// and going and one that turns about: the kept pairs are the grid's own every call,
+    /// and the fat boxes are found afresh far fewer times than there are calls.
+    #[test]
+    fn kept_pairs_are_the_grids_own_at_every_call() {
+        let mut s = 3;
+        let n = 300;
+        let mut at: Vec<Vec3> = (0..n)
+            .map(|_| Vec3::new(next(&mut s), next(&mut s), next(&mut s)) * 12.0)
+            .collect();
+        let v: Vec<Vec3> = (0..n)
+            .map(|k| {
+                let out = at[k] - Vec3::splat(6.0);
+                // Half fly out, half jostle about where they are.
+                if k % 2 == 0 { out * 0.02 } else { Vec3::ZERO }
+            })
+            .collect();
+        let mut kept = FatPairs::default();
+        let mut fresh = SteppedGrid::default();
+        let (mut got, mut want) = (Vec::new(), Vec::new());
+        for call in 0..200 {
+            let boxes: Vec<Option<(Aabb, Vec3)>> = (0..n)
+                .map(|k| {
+                    if (k + call / 50) % 37 == 0 {
+                        return None; // gone for a while
+                    }
+                    let jitter = Vec3::new(next(&mut s), next(&mut s), next(&mut s)) - 0.5;
+                    let mut d = v[k] + jitter * 0.004;
+                    if k == 11 && call >= 100 {
+                        d = -d * 5.0; // turns about, faster
+                    }
+                    at[k] += d;
+                    let h = Vec3::splat(0.2 + 0.1 * (k % 3) as Real);
+                    Some(((at[k] - h, at[k] + h), d))
+                })
+                .collect();
+            let keep = |a: u32, b: u32| !(a + b).is_multiple_of(5);
+            kept.pairs(&boxes, &keep, &mut got);
+            let items = boxes
+                .iter()
+                .enumerate()
+                .filter_map(|(i, b)| Some((i as u32, (*b)?.0)));
+            fresh.pairs(items, &keep, &mut want);
+            assert_eq!(got, want, "call {call}");
+            assert!(
+                !want.is_empty() || call > 20,
+                "call {call}: no pairs to find"
+            );
+        }
+        assert!(
+            kept.rebuilds * 4 < kept.calls && kept.refattened > 0,
+            "{} rebuilds, {} re-fattened in {} calls",
+            kept.rebuilds,
+            kept.refattened,
+            kept.calls
+        );
+    }
+
+    /// Clusters of boxes far apart, each box swinging about its place at its own pace, so
+    /// that boxes leave their fat boxes one by one next to boxes that left theirs before:
+    /// the kept pairs are the grid's own every call, mostly from boxes re-fattened alone.
+    #[test]
+    fn boxes_leaving_their_fat_boxes_one_by_one_keep_every_pair() {
+        let mut s = 5;
+        let n = 400;
+        // Twos that meet now and then, and boxes alone: few pairs, as in debris.
+        let base: Vec<Vec3> = (0..n / 4)
+            .flat_map(|_| {
+                let c = Vec3::new(next(&mut s), next(&mut s), next(&mut s)) * 200.0;
+                let far = Vec3::new(next(&mut s), next(&mut s), next(&mut s)) * 200.0;
+                [
+                    c,
+                    c + Vec3::new(0.6, 0.1, 0.0),
+                    far,
+                    far + Vec3::splat(50.0),
+                ]
+            })
+            .collect();
+        let pace: Vec<(Vec3, Real)> = (0..n)
+            .map(|_| {
+                let axis = Vec3::new(next(&mut s), next(&mut s), next(&mut s)) - 0.5;
+                (axis, 0.02 + 0.1 * next(&mut s))
+            })
+            .collect();
+        let at = |k: usize, t: Real| base[k] + pace[k].0 * (pace[k].1 * t).sin();
+        let mut kept = FatPairs::default();
+        let mut fresh = SteppedGrid::default();
+        let (mut got, mut want) = (Vec::new(), Vec::new());
+        let mut met = 0;
+        for call in 0..400 {
+            let t = call as Real;
+            let boxes: Vec<Option<(Aabb, Vec3)>> = (0..n)
+                .map(|k| {
+                    let (c, d) = (at(k, t), at(k, t + 1.0) - at(k, t));
+                    let h = Vec3::splat(0.3);
+                    Some(((c - h, c + h), d))
+                })
+                .collect();
+            kept.pairs(&boxes, &|_, _| true, &mut got);
+            let items = boxes
+                .iter()
+                .enumerate()
+                .filter_map(|(i, b)| Some((i as u32, (*b)?.0)));
+            fresh.pairs(items, &|_, _| true, &mut want);
+            assert_eq!(got, want, "call {call}");
+            met += want.len();
+        }
+        assert!(met > 0, "no pairs to find");
+        assert!(
+            kept.refattened > 10 * kept.rebuilds && kept.rebuilds > 0,
+            "{} rebuilds, {} re-fattened in {} calls",
+            kept.rebuilds,
+            kept.refattened,
+            kept.calls
+        );
+    }
+}
