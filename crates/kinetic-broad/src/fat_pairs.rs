@@ -81,7 +81,8 @@ pub(crate) struct FatPairs {
     gained: Vec<(u32, u32)>,
     found: Vec<u32>,
     merged: Vec<(u32, u32)>,
-    /// How many times the fat boxes were filed afresh, boxes re-fattened, and calls.
+    /// How many times the fat boxes were filed afresh, boxes re-fattened on their own, and
+    /// calls.
     pub(crate) rebuilds: u64,
     pub(crate) refattened: u64,
     pub(crate) calls: u64,

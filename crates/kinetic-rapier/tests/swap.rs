@@ -528,3 +528,32 @@ fn same_body_pairs_and_collision_groups_are_filtered_as_by_the_default() {
     assert!(default.bodies[top1].translation().y < 0.6);
     assert!(ours.bodies[top2].translation().y < 0.6);
 }
+
+/// Kinematic bodies of alike sizes crossing a box, with the broad phase choosing for itself:
+/// the world steps (plans would hold, but the loose grid would re-anchor every body every
+/// few steps), its pairs few enough for fat boxes. The touching pairs are the default's at
+/// every step, with fat boxes filed and bodies re-fattened on their own.
+#[test]
+fn kinematic_bodies_in_fat_boxes_touch_as_with_the_default_broad_phase() {
+    for seed in 20..22 {
+        let (b1, c1) = kinematic_scene(seed, 60, 0.3, 0.8);
+        let (b2, c2) = kinematic_scene(seed, 60, 0.3, 0.8);
+        let mut default = Sim::new(b1, c1, 0.0, DefaultBroadPhase::new());
+        let mut ours = Sim::new(b2, c2, 0.0, kinetic());
+        let mut touched = 0;
+        for step in 0..300 {
+            default.step();
+            ours.step();
+            ours.check(step);
+            let (want, got) = (default.touching(), ours.touching());
+            assert_eq!(want, got, "seed {seed} step {step}: touching pairs differ");
+            touched += got.len();
+        }
+        let stats = ours.bp.inner.stats();
+        assert!(touched > 300, "the scene should keep contacts: {touched}");
+        assert!(
+            stats.fat_filings > 0 && stats.refattened > 0,
+            "fat boxes unused: {stats:?}"
+        );
+    }
+}

@@ -86,9 +86,12 @@ impl BroadPhaseCore {
     /// Figures over the whole run.
     pub fn stats(&self) -> BroadPhaseStats {
         if let Some(st) = &self.stepped {
+            let (filings, refattened) = st.fat_counts();
             return BroadPhaseStats {
                 pairs: st.reported.len(),
                 candidates: st.reported.len(),
+                fat_filings: self.stats.fat_filings + filings,
+                refattened: self.stats.refattened + refattened,
                 ..self.stats
             };
         }

@@ -123,6 +123,11 @@ impl Stepped {
         self.updates % PRICE_EVERY < 3
     }
 
+    /// Times its fat boxes were filed afresh, and boxes re-fattened on their own.
+    pub(super) fn fat_counts(&self) -> (u64, u64) {
+        (self.grid.rebuilds, self.grid.refattened)
+    }
+
     /// Whether this position update's re-plans price a kinetic step.
     fn counting(&self) -> bool {
         self.updates % PRICE_EVERY == 2
@@ -296,6 +301,9 @@ impl BroadPhaseCore {
     /// ([`BroadPhaseCore::adopt`]).
     fn go_kinetic(&mut self, engine: &impl Engine) {
         let st = self.stepped.take().expect("stepped");
+        let (filings, refattened) = st.fat_counts();
+        self.stats.fat_filings += filings;
+        self.stats.refattened += refattened;
         self.adopting = Some(st.reported);
         self.clock.kds = self.clock.pos;
         // Bodies at rest are held by fat boxes again.

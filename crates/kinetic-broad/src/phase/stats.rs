@@ -30,6 +30,10 @@ pub struct BroadPhaseStats {
     pub boxed: u64,
     /// Switches between kinetic and stepped ([`crate::BroadPhaseCore`]'s mode).
     pub switches: u64,
+    /// Stepped: times the colliders' fat boxes were filed afresh (see `docs/structures.md`).
+    pub fat_filings: u64,
+    /// Stepped: colliders that left their fat boxes and were given new ones on their own.
+    pub refattened: u64,
 }
 
 /// Figures over the last physics step.
