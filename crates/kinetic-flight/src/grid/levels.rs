@@ -2,7 +2,7 @@
 
 use super::{Grid, Member};
 use super::{MAX_WIDEN, WIDEN_MIN_OBJECTS};
-use crate::cell_math::{Ends, box_ends};
+use crate::cell_math::{Ends, box_ends, box_width};
 use kinetic_core::kds::{Bodies, ScalarKey};
 use kinetic_core::{Real, Vec3};
 use rustc_hash::FxHashMap;
@@ -24,8 +24,9 @@ impl Grid {
     pub(super) fn widen_for(&mut self, ids: &[u32], bodies: &Bodies, now: Real) {
         let mut spread: FxHashMap<i32, (usize, Vec3, Vec3, Real)> = FxHashMap::default();
         for &id in ids {
-            let m = self.make_member(bodies, id);
-            if self.occupied.contains(&m.level) || self.widen.contains_key(&m.level) {
+            let width = box_width(bodies, id);
+            let level = self.level_for(width);
+            if self.occupied.contains(&level) || self.widen.contains_key(&level) {
                 continue;
             }
             let c = bodies[id as usize]
@@ -33,8 +34,8 @@ impl Grid {
                 .expect("a live object")
                 .plan
                 .position_at(now);
-            let e = spread.entry(m.level).or_insert((0, c, c, 0.0));
-            *e = (e.0 + 1, e.1.min(c), e.2.max(c), e.3.max(m.width));
+            let e = spread.entry(level).or_insert((0, c, c, 0.0));
+            *e = (e.0 + 1, e.1.min(c), e.2.max(c), e.3.max(width));
         }
         let min_f = 1.0 / self.ratio();
         for (level, (n, lo, hi, widest)) in spread {
