@@ -270,14 +270,7 @@ fn fatten(((lo, hi), d): (Aabb, Vec3)) -> Aabb {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A small deterministic generator.
-    fn next(s: &mut u64) -> Real {
-        *s = s
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (*s >> 11) as Real / (1u64 << 53) as Real
-    }
+    use crate::stepped::tests::next;
 
     /// Boxes flying apart and boxes jostling in a heap, over many calls, with boxes coming
     /// and going and one that turns about: the kept pairs are the grid's own every call,

@@ -486,11 +486,11 @@ fn push(out: &mut Vec<(u32, u32)>, keep: &dyn Fn(u32, u32) -> bool, a: u32, b: u
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// A small deterministic generator.
-    fn next(s: &mut u64) -> Real {
+    pub(crate) fn next(s: &mut u64) -> Real {
         *s = s
             .wrapping_mul(6364136223846793005)
             .wrapping_add(1442695040888963407);

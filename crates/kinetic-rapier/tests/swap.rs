@@ -62,13 +62,18 @@ fn kinematic_scene(seed: u64, n: usize, lo: f32, hi: f32) -> (RigidBodySet, Coll
     (bodies, colliders)
 }
 
-/// Runs the same kinematic scene with both broad phases and compares the touching pairs at
-/// every step.
-fn differential(seed: u64, n: usize, lo: f32, hi: f32, steps: usize, structure: Choice) {
+/// Runs the same kinematic scene with the default broad phase and with `bp`, compares the
+/// touching pairs at every step, and returns the kinetic broad phase.
+fn against_default(
+    seed: u64,
+    (n, lo, hi): (usize, f32, f32),
+    steps: usize,
+    bp: KineticBroadPhase,
+) -> KineticBroadPhase {
     let (b1, c1) = kinematic_scene(seed, n, lo, hi);
     let (b2, c2) = kinematic_scene(seed, n, lo, hi);
     let mut default = Sim::new(b1, c1, 0.0, DefaultBroadPhase::new());
-    let mut ours = Sim::new(b2, c2, 0.0, kinetic().with_structure(structure));
+    let mut ours = Sim::new(b2, c2, 0.0, bp);
     let mut touched = 0;
     for step in 0..steps {
         default.step();
@@ -78,9 +83,20 @@ fn differential(seed: u64, n: usize, lo: f32, hi: f32, steps: usize, structure: 
         assert_eq!(want, got, "seed {seed} step {step}: touching pairs differ");
         touched += got.len();
     }
-    assert_eq!(ours.bp.inner.structure_name(), structure.name());
     assert!(touched > steps, "the scene should keep contacts: {touched}");
     assert!(default.bp.faults.is_empty(), "{:?}", default.bp.faults);
+    ours.bp.inner
+}
+
+/// [`against_default`] with the structure `structure`.
+fn differential(seed: u64, n: usize, lo: f32, hi: f32, steps: usize, structure: Choice) {
+    let bp = against_default(
+        seed,
+        (n, lo, hi),
+        steps,
+        kinetic().with_structure(structure),
+    );
+    assert_eq!(bp.structure_name(), structure.name());
 }
 
 #[test]
@@ -536,21 +552,7 @@ fn same_body_pairs_and_collision_groups_are_filtered_as_by_the_default() {
 #[test]
 fn kinematic_bodies_in_fat_boxes_touch_as_with_the_default_broad_phase() {
     for seed in 20..22 {
-        let (b1, c1) = kinematic_scene(seed, 60, 0.3, 0.8);
-        let (b2, c2) = kinematic_scene(seed, 60, 0.3, 0.8);
-        let mut default = Sim::new(b1, c1, 0.0, DefaultBroadPhase::new());
-        let mut ours = Sim::new(b2, c2, 0.0, kinetic());
-        let mut touched = 0;
-        for step in 0..300 {
-            default.step();
-            ours.step();
-            ours.check(step);
-            let (want, got) = (default.touching(), ours.touching());
-            assert_eq!(want, got, "seed {seed} step {step}: touching pairs differ");
-            touched += got.len();
-        }
-        let stats = ours.bp.inner.stats();
-        assert!(touched > 300, "the scene should keep contacts: {touched}");
+        let stats = against_default(seed, (60, 0.3, 0.8), 300, kinetic()).stats();
         assert!(
             stats.fat_filings > 0 && stats.refattened > 0,
             "fat boxes unused: {stats:?}"
