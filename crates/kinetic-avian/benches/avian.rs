@@ -1,7 +1,7 @@
 //! avian3d 0.8's step with its own broad phase (BVH) and with the kinetic plugin, side by side
 //! in one run, on the rapier bench's standard scenes (`kinetic_scenes::engines::standard`:
-//! pile, rain, gas, debris, burst, asleep, kinematic): whole step, broad-phase time (avian's
-//! `CollisionDiagnostics`) and pairs in the contact graph.
+//! pile, rain, gas, debris, drift, burst, asleep, kinematic): whole step, broad-phase time
+//! (avian's `CollisionDiagnostics`) and pairs in the contact graph.
 //!
 //! `cargo bench -p kinetic-avian --bench avian -- [N...] [--steps S] [--scenes pile,rain]
 //! [--repeat K] [--csv PATH]` (default N = 1000 10000, S = 120, every scene, K = 3). The two

@@ -1,7 +1,7 @@
 //! rapier 0.27's step with its default broad phase and with the kinetic one, side by side in
 //! one run, on the standard scenes (`kinetic_scenes::engines::standard`: pile, rain, gas,
-//! debris, burst, asleep, kinematic): whole step, broad-phase time (rapier's own counters)
-//! and pairs handed to the narrow phase.
+//! debris, drift, burst, asleep, kinematic): whole step, broad-phase time (rapier's own
+//! counters) and pairs handed to the narrow phase.
 //!
 //! `cargo bench -p kinetic-rapier --bench rapier -- [N...] [--steps S] [--scenes pile,rain]
 //! [--repeat K] [--split P] [--csv PATH]` (default N = 1000 10000 50000, S = 120, every scene,

@@ -1,6 +1,7 @@
 //! Scenes for physics engines (rapier, avian), engine-neutral, built from a seed: the kinds
-//! the engines' own benches use (a pile, a rain, a ball gas in a box, drifting debris, a
-//! burst flying apart, a mostly sleeping world, many kinematic bodies). The `rapier` and
+//! the engines' own benches use (a pile, a rain, a ball gas in a box, drifting debris of
+//! spread sizes and of alike ones, a burst flying apart, a mostly sleeping world, many
+//! kinematic bodies). The `rapier` and
 //! `avian` modules put them into each engine, so both adapters' benches and examples run the
 //! very same scenes.
 
@@ -161,8 +162,20 @@ pub fn rain(n: usize, rocks: usize, seed: u64) -> EngineScene {
 /// least r falls as 1 / r), drifting at up to 1 unit per second in a cube sized for a volume
 /// fraction of about 2%. None sleeps.
 pub fn debris(n: usize, seed: u64) -> EngineScene {
+    drifting(n, seed, (0.01, 10.0))
+}
+
+/// Drifting debris of alike sizes: the [`debris`] field with radii from 0.1 to 0.5 (the
+/// number of pieces of radius at least r still falling as 1 / r).
+pub fn drift(n: usize, seed: u64) -> EngineScene {
+    drifting(n, seed, (0.1, 0.5))
+}
+
+/// `n` spinning balls and boxes with radii from `lo` to `hi` (the number of pieces of radius
+/// at least r falling as 1 / r, the first piece the largest), drifting at up to 1 unit per
+/// second in a cube sized for a volume fraction of about 2%.
+fn drifting(n: usize, seed: u64, (lo, hi): (f32, f32)) -> EngineScene {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let (lo, hi) = (0.01f32, 10.0f32);
     let radii: Vec<f32> = (0..n)
         .map(|k| {
             // P(R >= r) ~ 1/r between lo and hi; the first piece is the largest.
@@ -310,7 +323,8 @@ pub fn burst(n: usize, seed: u64) -> EngineScene {
     scene(pieces, 0.0)
 }
 
-/// The scene of `kind` (`pile`, `rain`, `gas`, `debris`, `burst`, `asleep`, `kinematic`) with
+/// The scene of `kind` (`pile`, `rain`, `gas`, `debris`, `drift`, `burst`, `asleep`,
+/// `kinematic`) with
 /// `n` bodies, from the seed each bench uses.
 pub fn standard(kind: &str, n: usize) -> Option<EngineScene> {
     Some(match kind {
@@ -318,6 +332,7 @@ pub fn standard(kind: &str, n: usize) -> Option<EngineScene> {
         "rain" => rain(n, (n / 400).max(3), 7),
         "gas" => gas(n, 3),
         "debris" => debris(n, 1),
+        "drift" => drift(n, 19),
         "burst" => burst(n, 17),
         "asleep" => asleep(n, 11),
         "kinematic" => kinematic(n, 13),
@@ -326,11 +341,12 @@ pub fn standard(kind: &str, n: usize) -> Option<EngineScene> {
 }
 
 /// The standard scenes' kinds, in the benches' order.
-pub const STANDARD: [&str; 7] = [
+pub const STANDARD: [&str; 8] = [
     "pile",
     "rain",
     "gas",
     "debris",
+    "drift",
     "burst",
     "asleep",
     "kinematic",
