@@ -56,11 +56,10 @@ pub(crate) struct FatPairs {
     /// The grid the pairs are found in from scratch, and the one the fat boxes are filed in.
     grid: SteppedGrid,
     filed: SteppedGrid,
-    /// Per index, the fat box (`None`: no box), and whether it was re-fattened since the
-    /// fat boxes were filed (its entry in `filed` is stale).
+    /// Per index, the fat box (`None`: no box).
     fat: Vec<Option<Aabb>>,
-    moved: Vec<bool>,
-    /// Per index, the call at which it last left its fat box.
+    /// Per index, the call at which it last left its fat box: after `built`, it was
+    /// re-fattened since the fat boxes were filed (its entry in `filed` is stale).
     left: Vec<u64>,
     /// The indices re-fattened since the fat boxes were filed.
     refat: Vec<u32>,
@@ -191,14 +190,17 @@ impl FatPairs {
         self.ready = true;
         self.fat.clear();
         self.fat.extend(boxes.iter().map(|b| b.map(fatten)));
-        self.moved.clear();
-        self.moved.resize(boxes.len(), false);
         self.left.clear();
         self.left.resize(boxes.len(), 0);
         self.refat.clear();
         let fat = self.fat.iter().enumerate();
         let items = fat.filter_map(|(i, f)| Some((i as u32, (*f)?)));
         self.filed.pairs(items, &|_, _| true, &mut self.candidates);
+    }
+
+    /// Whether box `i` was re-fattened since the fat boxes were filed.
+    fn moved(&self, i: u32) -> bool {
+        self.left[i as usize] > self.built
     }
 
     /// Gives the boxes that left their fat boxes (or came or went) new ones, and the
@@ -224,7 +226,7 @@ impl FatPairs {
         if self.leaving.is_empty() {
             return true;
         }
-        let fresh = self.leaving.iter().filter(|&&i| !self.moved[i as usize]);
+        let fresh = self.leaving.iter().filter(|&&i| !self.moved(i));
         if (self.refat.len() + fresh.count()) * MOVED_SHARE > boxes.len() {
             return false;
         }
@@ -232,10 +234,10 @@ impl FatPairs {
         // New fat boxes first, so that two leaving boxes see each other's.
         for &i in &self.leaving {
             self.fat[i as usize] = boxes[i as usize].map(fatten);
-            self.left[i as usize] = self.calls;
-            if !std::mem::replace(&mut self.moved[i as usize], true) {
+            if !self.moved(i) {
                 self.refat.push(i);
             }
+            self.left[i as usize] = self.calls;
         }
         // Their candidates: in the grid (passing over stale entries), and among the boxes
         // re-fattened since it was filed.
@@ -246,7 +248,8 @@ impl FatPairs {
             };
             self.found.clear();
             self.filed.overlapping_with(&f, &mut self.found);
-            self.found.retain(|&j| !self.moved[j as usize]);
+            let (left, built) = (&self.left, self.built);
+            self.found.retain(|&j| left[j as usize] <= built);
             for &j in &self.refat {
                 if let Some(g) = self.fat[j as usize]
                     && overlapping(&f, &g)

@@ -164,44 +164,52 @@ impl SteppedGrid {
     /// tests a pair (a box may come more than once).
     pub(crate) fn overlapping_with(&self, q: &Aabb, out: &mut Vec<u32>) {
         let q = small(q);
-        let mut all = !self.built;
-        if !all {
-            // Dense: small boxes are filed by their centres, half a cell from their edges.
-            let half = if self.dense.is_some() {
-                0.5 / self.inv
-            } else {
-                0.0
-            };
-            let lo = self.cell_of(std::array::from_fn(|k| q[0][k] as f64 - half));
-            let hi = self.cell_of(std::array::from_fn(|k| q[1][k] as f64 + half));
-            let cells = (0..3)
-                .map(|k| hi[k].saturating_sub(lo[k]).saturating_add(1).max(0))
-                .fold(1i64, |p, x| p.saturating_mul(x));
-            // A NaN box has no cells and meets nothing.
-            all = cells > WIDE_CELLS;
-            if !all {
-                for x in lo[0]..=hi[0] {
-                    for y in lo[1]..=hi[1] {
-                        for z in lo[2]..=hi[2] {
-                            for (b, j) in self.run(self.slot([x, y, z])) {
-                                if overlap(&q, b) {
-                                    out.push(self.ids[*j as usize]);
-                                }
-                            }
-                        }
-                    }
-                }
-                for &w in &self.wide {
-                    if overlap(&q, &self.boxes[w as usize]) {
-                        out.push(self.ids[w as usize]);
-                    }
-                }
-            }
-        }
-        if all {
+        if !self.built {
             for (b, id) in self.boxes.iter().zip(&self.ids) {
                 if overlap(&q, b) {
                     out.push(*id);
+                }
+            }
+            return;
+        }
+        self.filed_overlapping(&q, |j| out.push(self.ids[j as usize]));
+        for &w in &self.wide {
+            if overlap(&q, &self.boxes[w as usize]) {
+                out.push(self.ids[w as usize]);
+            }
+        }
+    }
+
+    /// Calls `hit` with the place of each small box filed in the table that overlaps `q`
+    /// (a box may come more than once): from the cells `q` reaches, or from every small box
+    /// when those are more than [`WIDE_CELLS`].
+    fn filed_overlapping(&self, q: &Small, mut hit: impl FnMut(u32)) {
+        // Dense: small boxes are filed by their centres, half a cell from their edges.
+        let half = if self.dense.is_some() {
+            0.5 / self.inv
+        } else {
+            0.0
+        };
+        let lo = self.cell_of(std::array::from_fn(|k| q[0][k] as f64 - half));
+        let hi = self.cell_of(std::array::from_fn(|k| q[1][k] as f64 + half));
+        let cells = (0..3)
+            .map(|k| hi[k].saturating_sub(lo[k]).saturating_add(1).max(0))
+            .fold(1i64, |p, x| p.saturating_mul(x));
+        let mut test = |run: &[(Small, u32)]| {
+            for (b, j) in run {
+                if overlap(q, b) {
+                    hit(*j);
+                }
+            }
+        };
+        if cells > WIDE_CELLS {
+            test(&self.sorted);
+            return;
+        }
+        for x in lo[0]..=hi[0] {
+            for y in lo[1]..=hi[1] {
+                for z in lo[2]..=hi[2] {
+                    test(self.run(self.slot([x, y, z])));
                 }
             }
         }
@@ -372,37 +380,10 @@ impl SteppedGrid {
         }
         // Wide boxes: against the small boxes whose centres can lie near (dense) or that are
         // filed in its cells (hashed), or against all.
-        let half = if self.dense.is_some() {
-            0.5 / self.inv
-        } else {
-            0.0
-        };
         for (n, &w) in self.wide.iter().enumerate() {
             let a = self.boxes[w as usize];
-            let lo = self.cell_of(std::array::from_fn(|k| a[0][k] as f64 - half));
-            let hi = self.cell_of(std::array::from_fn(|k| a[1][k] as f64 + half));
-            let cells = (0..3)
-                .map(|k| hi[k].saturating_sub(lo[k]).saturating_add(1).max(0))
-                .fold(1i64, |p, x| p.saturating_mul(x));
-            if cells <= WIDE_CELLS {
-                for x in lo[0]..=hi[0] {
-                    for y in lo[1]..=hi[1] {
-                        for z in lo[2]..=hi[2] {
-                            for (b, j) in self.run(self.slot([x, y, z])) {
-                                if overlap(&a, b) {
-                                    push(out, keep, self.ids[w as usize], self.ids[*j as usize]);
-                                }
-                            }
-                        }
-                    }
-                }
-            } else {
-                for (b, j) in &self.sorted {
-                    if overlap(&a, b) {
-                        push(out, keep, self.ids[w as usize], self.ids[*j as usize]);
-                    }
-                }
-            }
+            let id = self.ids[w as usize];
+            self.filed_overlapping(&a, |j| push(out, keep, id, self.ids[j as usize]));
             if self.wide.len() <= INNER_FROM {
                 for &v in &self.wide[n + 1..] {
                     if overlap(&a, &self.boxes[v as usize]) {
