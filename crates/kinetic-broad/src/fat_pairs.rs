@@ -145,6 +145,16 @@ impl FatPairs {
         self.plain_work += (plain - self.plain_work) / SMOOTHING;
     }
 
+    /// Whether fat boxes hold the pairs now.
+    pub(crate) fn holds(&self) -> bool {
+        self.ready
+    }
+
+    /// The work of a call while fat boxes hold the pairs, averaged (in boxes filed).
+    pub(crate) fn work(&self) -> Option<Real> {
+        self.ready.then_some(self.work)
+    }
+
     /// Whether the boxes move steadily enough for fat boxes: no more than one in
     /// [`MOVED_SHARE`] changed its move since the last call by enough to leave its fat box
     /// within [`AHEAD`] steps at that rate (bodies falling together, a pile settling, do).

@@ -75,6 +75,8 @@ pub(crate) struct SteppedGrid {
     cells: Vec<Option<[i64; 3]>>,
     /// Whether the table holds this call's boxes (not when there were fewer than two).
     built: bool,
+    /// Whether `inner` holds this call's wide boxes.
+    nesting: bool,
     /// This call's boxes and their ids.
     boxes: Vec<Small>,
     ids: Vec<u32>,
@@ -163,21 +165,37 @@ impl SteppedGrid {
     /// Pushes onto `out` the ids of the last call's boxes that overlap `q` as the grid
     /// tests a pair (a box may come more than once).
     pub(crate) fn overlapping_with(&self, q: &Aabb, out: &mut Vec<u32>) {
-        let q = small(q);
+        self.query(&small(q), &mut |id| out.push(id));
+    }
+
+    /// Calls `hit` with the id of each of the last call's boxes that overlaps `q` (a box may
+    /// come more than once): the small boxes filed in the cells `q` reaches, and the wide
+    /// ones from their own grid when they have one.
+    fn query(&self, q: &Small, hit: &mut dyn FnMut(u32)) {
         if !self.built {
             for (b, id) in self.boxes.iter().zip(&self.ids) {
-                if overlap(&q, b) {
-                    out.push(*id);
+                if overlap(q, b) {
+                    hit(*id);
                 }
             }
             return;
         }
-        self.filed_overlapping(&q, |j| out.push(self.ids[j as usize]));
-        for &w in &self.wide {
-            if overlap(&q, &self.boxes[w as usize]) {
-                out.push(self.ids[w as usize]);
+        self.filed_overlapping(q, |j| hit(self.ids[j as usize]));
+        match self.nested() {
+            Some(inner) => inner.query(q, hit),
+            None => {
+                for &w in &self.wide {
+                    if overlap(q, &self.boxes[w as usize]) {
+                        hit(self.ids[w as usize]);
+                    }
+                }
             }
         }
+    }
+
+    /// The grid of this call's wide boxes, when they have one.
+    fn nested(&self) -> Option<&SteppedGrid> {
+        self.inner.as_deref().filter(|_| self.nesting)
     }
 
     /// Calls `hit` with the place of each small box filed in the table that overlaps `q`
@@ -252,6 +270,7 @@ impl SteppedGrid {
     /// The pairs of this call's boxes that `keep` keeps, into `out` (empty).
     fn find(&mut self, keep: &dyn Fn(u32, u32) -> bool, out: &mut Vec<(u32, u32)>) {
         self.built = false;
+        self.nesting = false;
         if self.boxes.len() < 2 {
             return;
         }
@@ -378,22 +397,9 @@ impl SteppedGrid {
                 }
             }
         }
-        // Wide boxes: against the small boxes whose centres can lie near (dense) or that are
-        // filed in its cells (hashed), or against all.
-        for (n, &w) in self.wide.iter().enumerate() {
-            let a = self.boxes[w as usize];
-            let id = self.ids[w as usize];
-            self.filed_overlapping(&a, |j| push(out, keep, id, self.ids[j as usize]));
-            if self.wide.len() <= INNER_FROM {
-                for &v in &self.wide[n + 1..] {
-                    if overlap(&a, &self.boxes[v as usize]) {
-                        push(out, keep, self.ids[w as usize], self.ids[v as usize]);
-                    }
-                }
-            }
-        }
-        // Many wide boxes (a spread of sizes) meet each other in a grid of their own, unless
-        // none of them came out small (boxes with NaN sides) and it would never end.
+        // Many wide boxes (a spread of sizes) meet each other in a grid of their own, and each
+        // small box looks up the few cells of that grid it reaches (and so on up the sizes),
+        // unless none of them came out small (boxes with NaN sides) and it would never end.
         if self.wide.len() > INNER_FROM {
             let mut inner = self.inner.take().unwrap_or_default();
             inner.boxes.clear();
@@ -402,20 +408,40 @@ impl SteppedGrid {
                 inner.boxes.push(self.boxes[w as usize]);
                 inner.ids.push(self.ids[w as usize]);
             }
-            let mut found = Vec::new();
             if self.wide.len() < self.boxes.len() {
-                inner.find(keep, &mut found);
+                inner.find(keep, out);
             } else {
+                inner.built = false;
                 for (k, a) in inner.boxes.iter().enumerate() {
                     for (l, b) in inner.boxes.iter().enumerate().skip(k + 1) {
                         if overlap(a, b) {
-                            push(&mut found, keep, inner.ids[k], inner.ids[l]);
+                            push(out, keep, inner.ids[k], inner.ids[l]);
                         }
                     }
                 }
             }
-            out.extend(found);
             self.inner = Some(inner);
+            self.nesting = true;
+            let inner = self.inner.as_deref().expect("just put");
+            for (i, c) in self.cells.iter().enumerate() {
+                if c.is_some() {
+                    let id = self.ids[i];
+                    inner.query(&self.boxes[i], &mut |j| push(out, keep, id, j));
+                }
+            }
+        } else {
+            // A few wide boxes: against the small boxes whose centres can lie near (dense) or
+            // that are filed in its cells (hashed), or against all, and against each other.
+            for (n, &w) in self.wide.iter().enumerate() {
+                let a = self.boxes[w as usize];
+                let id = self.ids[w as usize];
+                self.filed_overlapping(&a, |j| push(out, keep, id, self.ids[j as usize]));
+                for &v in &self.wide[n + 1..] {
+                    if overlap(&a, &self.boxes[v as usize]) {
+                        push(out, keep, id, self.ids[v as usize]);
+                    }
+                }
+            }
         }
         out.sort_unstable();
         out.dedup();
@@ -608,6 +634,49 @@ pub(crate) mod tests {
                 items.push((5001, (Vec3::NAN, Vec3::ONE)));
             }
             check(&mut grid, &items, &format!("round {round}"));
+        }
+    }
+
+    /// Debris whose sizes span three orders: the wide boxes make grids of their own, one in
+    /// another, and both the pairs and a box's look-up find exactly the overlapping boxes.
+    #[test]
+    fn sizes_spread_over_three_orders_nest_grids_and_give_exactly_the_overlapping_pairs() {
+        let mut s = 17;
+        let mut grid = SteppedGrid::default();
+        let mut items = Vec::new();
+        for round in 0..3u32 {
+            items.clear();
+            for id in 0..3000u32 {
+                // The number of boxes of radius at least r falls as 1 / r, from 0.01 to 10.
+                let r = 1.0 / (100.0 - next(&mut s) * 99.9);
+                let c = Vec3::new(next(&mut s), next(&mut s), next(&mut s)) * 60.0;
+                let h = Vec3::new(1.0, 0.5 + next(&mut s), 1.0) * r;
+                items.push((id * 3 + round, (c - h, c + h)));
+            }
+            check(&mut grid, &items, &format!("round {round}"));
+            let mut depth = 0;
+            let mut g = &grid;
+            while let Some(inner) = g.nested() {
+                depth += 1;
+                g = inner;
+            }
+            assert!(depth >= 2, "round {round}: {depth} nested grids");
+            for k in 0..200 {
+                let (_, q) = items[(k * 13) % items.len()];
+                let q = (q.0 - Vec3::splat(0.05), q.1 + Vec3::splat(0.05));
+                let mut got = Vec::new();
+                grid.overlapping_with(&q, &mut got);
+                got.sort_unstable();
+                got.dedup();
+                let want: Vec<u32> = items
+                    .iter()
+                    .filter(|(_, b)| overlapping(&q, b))
+                    .map(|(id, _)| *id)
+                    .collect::<std::collections::BTreeSet<_>>()
+                    .into_iter()
+                    .collect();
+                assert_eq!(got, want, "round {round}: look-up {k}");
+            }
         }
     }
 

@@ -13,8 +13,10 @@
 //!
 //! - kinetic, a step costs its re-plans and events, [`OP_COST`] each, averaged over about
 //!   [`SMOOTHING`] steps;
-//! - stepped, a step costs [`BOX_COST`] per collider held;
-//! - stepped, the bodies' plans are kept on three position updates in [`PRICE_EVERY`] (no
+//! - stepped, a step costs [`BOX_COST`] per collider held, or while fat boxes hold the pairs
+//!   ([`FatPairs`]) their work, counted in the same units;
+//! - stepped, the bodies' plans are kept on three position updates in [`PRICE_EVERY`]
+//!   ([`FAT_PRICE_SPACING`] times as many while fat boxes hold the pairs) (no
 //!   structure to tell), and the third prices a kinetic step: the last kinetic stretch's
 //!   cost scaled by its re-plans to the re-plans now; before any kinetic stretch, an event
 //!   for each re-plan and the loose grid's re-anchors for the boxes' moves.
@@ -22,9 +24,8 @@
 //! The world steps once the kinetic cost is above the stepped one, and goes back after
 //! [`CALM_COUNTS`] prices running below [`BACK`] of it (more after kinetic stretches that did
 //! not last), at least [`DWELL`] steps after the last switch. A world starts stepped unless
-//! most of its bodies sleep. Only the loose grid's worlds step, and only when the broad phase
-//! picked the structure itself: a caller's choice ([`BroadPhaseCore::with_structure`]) stays
-//! kinetic.
+//! most of its bodies sleep. A world steps only when the broad phase picked the structure
+//! itself: a caller's choice ([`BroadPhaseCore::with_structure`]) stays kinetic.
 //!
 //! The pairs the engine has are carried over at a switch: to the stepped grid's, with adds
 //! and deletes for the difference, and back to the kinetic book, which adopts those it holds
@@ -33,9 +34,9 @@
 use super::{BroadPhaseCore, REGION_MARGIN, REGION_STEPS};
 use crate::fat_pairs::FatPairs;
 use crate::stepped::Aabb;
-use crate::{Engine, Hold, PairEvent};
+use crate::{Engine, Hold, Key, PairEvent};
 use kinetic_core::{Real, Vec3};
-use kinetic_flight::{Choice, LOOSE_TRAVEL};
+use kinetic_flight::LOOSE_TRAVEL;
 
 /// The kinetic cost of a re-plan or an event, in units of one collider filed by the stepped
 /// grid (measured on the rapier bench's pile, rain and gas at 1e3 and 1e4 bodies).
@@ -48,8 +49,12 @@ const SMOOTHING: Real = 2.0;
 /// stepped one.
 const BACK: Real = 0.5;
 /// A stepped world passes over its bodies' plans on three position updates running in
-/// this many.
+/// this many...
 const PRICE_EVERY: u64 = 12;
+/// ... or this many times as many while fat boxes hold its pairs: a world flying apart,
+/// where reading every body's state is most of a step's work and plans would seldom be
+/// cheaper.
+const FAT_PRICE_SPACING: u64 = 4;
 /// A stepped world goes back to kinetic after this many counts running priced it cheaper...
 const CALM_COUNTS: u32 = 2;
 /// ... or up to this many, after kinetic stretches that did not last...
@@ -85,6 +90,8 @@ pub(super) struct Stepped {
     all: bool,
     /// Scratch for the typical move.
     sample: Vec<Real>,
+    /// The colliders moved in this position update, a bit per index.
+    marked: Vec<u64>,
     /// The pairs gone and new in this call.
     gone: Vec<(u32, u32)>,
     new: Vec<(u32, u32)>,
@@ -120,7 +127,17 @@ impl Stepped {
     /// every [`PRICE_EVERY`], the third counting the re-plans) rather than only over the
     /// moved colliders' boxes.
     pub(super) fn full(&self) -> bool {
-        self.updates % PRICE_EVERY < 3
+        self.updates % self.price_every() < 3
+    }
+
+    /// Position updates from one pricing to the next: [`PRICE_EVERY`], spaced by
+    /// [`FAT_PRICE_SPACING`] while fat boxes hold the pairs (the spacings' windows line up).
+    fn price_every(&self) -> u64 {
+        if self.grid.holds() {
+            PRICE_EVERY * FAT_PRICE_SPACING
+        } else {
+            PRICE_EVERY
+        }
     }
 
     /// Times its fat boxes were filed afresh, and boxes re-fattened on their own.
@@ -130,7 +147,37 @@ impl Stepped {
 
     /// Whether this position update's re-plans price a kinetic step.
     fn counting(&self) -> bool {
-        self.updates % PRICE_EVERY == 2
+        self.updates % self.price_every() == 2
+    }
+
+    /// Marks collider `i` as moved in this position update: its box is read in
+    /// [`Stepped::track_marked`].
+    pub(super) fn mark(&mut self, i: u32) {
+        let word = i as usize / 64;
+        if self.marked.len() <= word {
+            self.marked.resize(word + 1, 0);
+        }
+        self.marked[word] |= 1 << (i % 64);
+    }
+
+    /// Reads the boxes of the colliders marked as moved, in index order: an engine lists
+    /// them in its own (rapier: its islands'), and read in order both its colliders and
+    /// these tables are walked front to back.
+    pub(super) fn track_marked(&mut self, engine: &impl Engine, movers: &[Option<(u32, u32)>]) {
+        for word in 0..self.marked.len() {
+            let mut bits = std::mem::take(&mut self.marked[word]);
+            while bits != 0 {
+                let i = (word * 64) as u32 + bits.trailing_zeros();
+                bits &= bits - 1;
+                if let Some(&Some((generation, _))) = movers.get(i as usize) {
+                    let b = engine.bounds(Key {
+                        index: i,
+                        generation,
+                    });
+                    self.track(i, b);
+                }
+            }
+        }
     }
 
     /// Collider `i` moved to box `b` (`None`: the engine gives none): how far it moves over
@@ -180,11 +227,10 @@ impl Stepped {
 }
 
 impl BroadPhaseCore {
-    /// Whether the world may step: the structure is the broad phase's own pick, and the loose
-    /// grid (alike sizes: a spread of sizes would make the stepped grid test its big boxes
-    /// against every other).
+    /// Whether the world may step: the structure is the broad phase's own pick (made once
+    /// the first colliders come).
     pub(super) fn may_step(&self) -> bool {
-        !self.choice_given && self.choice == Some(Choice::Loose)
+        !self.choice_given && self.choice.is_some()
     }
 
     /// Whether the world is stepped now.
@@ -227,7 +273,11 @@ impl BroadPhaseCore {
             OP_COST * (self.step.replans + self.step.events) as Real
         };
         m.kinetic += w * (kinetic - m.kinetic);
-        m.stepped += w * (BOX_COST * held - m.stepped);
+        let stepped = match self.stepped.as_ref().and_then(|st| st.grid.work()) {
+            Some(fat) => fat.min(BOX_COST * held),
+            None => BOX_COST * held,
+        };
+        m.stepped += w * (stepped - m.stepped);
         if counted {
             m.replans += w * (replans - m.replans);
         }

@@ -61,7 +61,7 @@ impl BroadPhaseCore {
                     if body != u32::MAX
                         && let Some(st) = self.stepped.as_mut()
                     {
-                        st.track(h.index, engine.bounds(h));
+                        st.mark(h.index);
                         if !full {
                             continue;
                         }
@@ -99,6 +99,9 @@ impl BroadPhaseCore {
             }
         }
 
+        if let Some(st) = self.stepped.as_mut() {
+            st.track_marked(engine, &self.movers);
+        }
         // Bodies that moved: what they showed of their acceleration, then their plans.
         let mut seen_moving = 0;
         let step_dt = self.clock.dt.max(dt);
