@@ -93,18 +93,25 @@ pub(crate) struct FatPairs {
 
 impl FatPairs {
     /// Puts the pairs `(a, b)`, `a < b`, of the boxes `boxes` (per index: the box and how far
-    /// it moves a step, `None` for none) that overlap and that `keep(a, b)` keeps into
-    /// `out`, sorted; what `out` held is cleared.
+    /// it moves a step, `None` for none), swept over the step in the frame that moves
+    /// `frame` a step, that overlap and that `keep(a, b)` keeps into `out`, sorted; what
+    /// `out` held is cleared.
     pub(crate) fn pairs(
         &mut self,
         boxes: &[Option<(Aabb, Vec3)>],
+        frame: Vec3,
         keep: &dyn Fn(u32, u32) -> bool,
         out: &mut Vec<(u32, u32)>,
     ) {
+        let boxes = &Swept { boxes, frame };
         self.calls += 1;
         let steady = self.ready || self.steady(boxes);
-        self.last_moves.clear();
-        self.last_moves.extend(boxes.iter().map(|b| b.map(|b| b.1)));
+        // The moves are compared from call to call only while fat boxes do not hold.
+        if !self.ready {
+            self.last_moves.clear();
+            self.last_moves
+                .extend(boxes.boxes.iter().map(|b| b.map(|b| b.1)));
+        }
         if self.calls < self.plain_until || (!self.ready && !(self.sparse && steady)) {
             self.plain(boxes, keep, out);
             return;
@@ -131,7 +138,7 @@ impl FatPairs {
         }
         out.clear();
         for &(a, b) in &self.candidates {
-            if let (Some(x), Some(y)) = (boxes[a as usize], boxes[b as usize])
+            if let (Some(x), Some(y)) = (boxes.get(a), boxes.get(b))
                 && overlapping(&x.0, &y.0)
                 && keep(a, b)
             {
@@ -158,7 +165,7 @@ impl FatPairs {
     /// Whether the boxes move steadily enough for fat boxes: no more than one in
     /// [`MOVED_SHARE`] changed its move since the last call by enough to leave its fat box
     /// within [`AHEAD`] steps at that rate (bodies falling together, a pile settling, do).
-    fn steady(&self, boxes: &[Option<(Aabb, Vec3)>]) -> bool {
+    fn steady(&self, boxes: &Swept) -> bool {
         if self.last_moves.len() != boxes.len() {
             return false;
         }
@@ -176,20 +183,15 @@ impl FatPairs {
     }
 
     /// The pairs found from scratch (and whether they are few).
-    fn plain(
-        &mut self,
-        boxes: &[Option<(Aabb, Vec3)>],
-        keep: &dyn Fn(u32, u32) -> bool,
-        out: &mut Vec<(u32, u32)>,
-    ) {
+    fn plain(&mut self, boxes: &Swept, keep: &dyn Fn(u32, u32) -> bool, out: &mut Vec<(u32, u32)>) {
         let items = boxes.iter().enumerate();
-        let items = items.filter_map(|(i, b)| Some((i as u32, (*b)?.0)));
+        let items = items.filter_map(|(i, b)| Some((i as u32, b?.0)));
         self.grid.pairs(items, keep, out);
         self.sparse = SPARSE * out.len() <= boxes.len();
     }
 
     /// Every box given a fat box, filed afresh, and the pairs of fat boxes found.
-    fn file(&mut self, boxes: &[Option<(Aabb, Vec3)>]) {
+    fn file(&mut self, boxes: &Swept) {
         if !self.ready {
             // Fresh from scratch: fat boxes are given the benefit of the doubt.
             self.work = 0.0;
@@ -216,7 +218,7 @@ impl FatPairs {
     /// Gives the boxes that left their fat boxes (or came or went) new ones, and the
     /// candidates with them; `false` when too many have been re-fattened since the fat
     /// boxes were filed (or the boxes are not the same many), which files them afresh.
-    fn update(&mut self, boxes: &[Option<(Aabb, Vec3)>]) -> bool {
+    fn update(&mut self, boxes: &Swept) -> bool {
         if self.fat.len() != boxes.len() {
             return false;
         }
@@ -243,7 +245,7 @@ impl FatPairs {
         self.refattened += self.leaving.len() as u64;
         // New fat boxes first, so that two leaving boxes see each other's.
         for &i in &self.leaving {
-            self.fat[i as usize] = boxes[i as usize].map(fatten);
+            self.fat[i as usize] = boxes.get(i).map(fatten);
             if !self.moved(i) {
                 self.refat.push(i);
             }
@@ -293,6 +295,37 @@ impl FatPairs {
         self.merged.extend(g);
         std::mem::swap(&mut self.candidates, &mut self.merged);
         true
+    }
+}
+
+/// Boxes swept over the step in a frame that moves steadily: two boxes meet as they move
+/// in any such frame, and in the frame of the typical box (a falling heap's) they hardly
+/// sweep at all.
+pub(crate) struct Swept<'a> {
+    /// Per index, the box and how far it moves a step (`None`: no box).
+    boxes: &'a [Option<(Aabb, Vec3)>],
+    /// How far the frame moves a step.
+    frame: Vec3,
+}
+
+impl Swept<'_> {
+    fn len(&self) -> usize {
+        self.boxes.len()
+    }
+
+    /// Box `i` swept, and how far it moves a step.
+    fn get(&self, i: u32) -> Option<(Aabb, Vec3)> {
+        self.sweep(self.boxes[i as usize])
+    }
+
+    fn iter(&self) -> impl Iterator<Item = Option<(Aabb, Vec3)>> + '_ {
+        self.boxes.iter().map(|&b| self.sweep(b))
+    }
+
+    fn sweep(&self, b: Option<(Aabb, Vec3)>) -> Option<(Aabb, Vec3)> {
+        let ((lo, hi), d) = b?;
+        let r = d - self.frame;
+        Some(((lo + r.min(Vec3::ZERO), hi + r.max(Vec3::ZERO)), d))
     }
 }
 
@@ -350,11 +383,17 @@ mod tests {
                 })
                 .collect();
             let keep = |a: u32, b: u32| !(a + b).is_multiple_of(5);
-            kept.pairs(&boxes, &keep, &mut got);
-            let items = boxes
+            // The boxes are swept in a frame drifting a little.
+            let frame = Vec3::new(0.01, -0.005, 0.0);
+            kept.pairs(&boxes, frame, &keep, &mut got);
+            let swept = Swept {
+                boxes: &boxes,
+                frame,
+            };
+            let items = swept
                 .iter()
                 .enumerate()
-                .filter_map(|(i, b)| Some((i as u32, (*b)?.0)));
+                .filter_map(|(i, b)| Some((i as u32, b?.0)));
             fresh.pairs(items, &keep, &mut want);
             assert_eq!(got, want, "call {call}");
             assert!(
@@ -411,11 +450,15 @@ mod tests {
                     Some(((c - h, c + h), d))
                 })
                 .collect();
-            kept.pairs(&boxes, &|_, _| true, &mut got);
-            let items = boxes
+            kept.pairs(&boxes, Vec3::ZERO, &|_, _| true, &mut got);
+            let swept = Swept {
+                boxes: &boxes,
+                frame: Vec3::ZERO,
+            };
+            let items = swept
                 .iter()
                 .enumerate()
-                .filter_map(|(i, b)| Some((i as u32, (*b)?.0)));
+                .filter_map(|(i, b)| Some((i as u32, b?.0)));
             fresh.pairs(items, &|_, _| true, &mut want);
             assert_eq!(got, want, "call {call}");
             met += want.len();

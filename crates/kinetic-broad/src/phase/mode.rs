@@ -70,8 +70,6 @@ const DWELL: u64 = 8;
 #[derive(Debug, Default)]
 pub(super) struct Stepped {
     grid: FatPairs,
-    /// This call's boxes swept over the step, and their moves (a buffer).
-    swept: Vec<Option<(Aabb, Vec3)>>,
     /// Per collider index, its box now and how far it moves over the coming step (`None`:
     /// to be worked out).
     boxes: Vec<Option<(Aabb, Vec3)>>,
@@ -455,13 +453,7 @@ impl BroadPhaseCore {
             (Some(x), Some(y)) => meet_within_step(x, y),
             _ => true,
         };
-        st.swept.clear();
-        st.swept.extend(boxes.iter().map(|b| {
-            let ((lo, hi), d) = (*b)?;
-            let r = d - frame;
-            Some(((lo + r.min(Vec3::ZERO), hi + r.max(Vec3::ZERO)), d))
-        }));
-        st.grid.pairs(&st.swept, &keep, &mut st.found);
+        st.grid.pairs(boxes, frame, &keep, &mut st.found);
         // The difference, in order: deletes of pairs gone, adds of pairs new.
         let (old, new) = (&st.reported, &st.found);
         let (mut i, mut j) = (0, 0);
@@ -530,12 +522,11 @@ fn anchors(boxes: &[Option<(Aabb, Vec3)>]) -> Real {
 }
 
 /// The median move of the boxes `boxes` over the step, axis by axis, from at most
-/// [`SAMPLE`] of them evenly spaced.
+/// [`SAMPLE`] of them evenly spaced by index.
 fn typical_move(boxes: &[Option<(Aabb, Vec3)>], sample: &mut Vec<Real>) -> Vec3 {
     let moves: Vec<Vec3> = {
-        let n = boxes.iter().flatten().count();
-        let every = n.div_ceil(SAMPLE).max(1);
-        boxes.iter().flatten().step_by(every).map(|b| b.1).collect()
+        let every = boxes.len().div_ceil(SAMPLE).max(1);
+        boxes.iter().step_by(every).flatten().map(|b| b.1).collect()
     };
     if moves.is_empty() {
         return Vec3::ZERO;
