@@ -79,6 +79,9 @@ pub(crate) struct FatPairs {
     /// averaged over about [`SMOOTHING`] calls (in boxes filed).
     work: Real,
     plain_work: Real,
+    /// The frame the boxes are swept in while fat boxes hold: the one they were filed in
+    /// (boxes meet as they move in any frame that moves steadily).
+    frame: Vec3,
     /// Scratch: the indices leaving their fat boxes this call, and the pairs they gain.
     leaving: Vec<u32>,
     gained: Vec<(u32, u32)>,
@@ -103,6 +106,7 @@ impl FatPairs {
         keep: &dyn Fn(u32, u32) -> bool,
         out: &mut Vec<(u32, u32)>,
     ) {
+        let frame = if self.ready { self.frame } else { frame };
         let boxes = &Swept { boxes, frame };
         self.calls += 1;
         let steady = self.ready || self.steady(boxes);
@@ -157,6 +161,12 @@ impl FatPairs {
         self.ready
     }
 
+    /// The frame the boxes are swept in while fat boxes hold the pairs (the frame passed
+    /// to [`FatPairs::pairs`] is not looked at then).
+    pub(crate) fn frame(&self) -> Option<Vec3> {
+        self.ready.then_some(self.frame)
+    }
+
     /// The work of a call while fat boxes hold the pairs, averaged (in boxes filed).
     pub(crate) fn work(&self) -> Option<Real> {
         self.ready.then_some(self.work)
@@ -200,6 +210,7 @@ impl FatPairs {
         self.rebuilds += 1;
         self.built = self.calls;
         self.ready = true;
+        self.frame = boxes.frame;
         self.fat.clear();
         self.fat.extend(boxes.iter().map(|b| b.map(fatten)));
         self.left.clear();

@@ -446,8 +446,12 @@ impl BroadPhaseCore {
         // Of the pairs whose swept boxes overlap, those whose boxes meet as they move: two
         // bodies falling side by side are not a pair.
         // Two boxes meet as they move in any frame that moves steadily: the boxes are swept
-        // in the frame of the typical box (a falling heap's boxes then hardly sweep at all).
-        let frame = typical_move(&st.boxes, &mut st.sample);
+        // in the frame of the typical box (a falling heap's boxes then hardly sweep at all),
+        // or while fat boxes hold the pairs, the one they were filed in.
+        let frame = match st.grid.frame() {
+            Some(frame) => frame,
+            None => typical_move(&st.boxes, &mut st.sample),
+        };
         let boxes = &st.boxes;
         let keep = |a: u32, b: u32| match (boxes[a as usize], boxes[b as usize]) {
             (Some(x), Some(y)) => meet_within_step(x, y),
