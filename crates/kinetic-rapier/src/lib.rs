@@ -56,15 +56,17 @@
 //! Where plans do not hold (a pile, a settling rain, a dense gas: re-plans every few steps),
 //! the broad phase *steps* instead: each step it files every collider's box, swept over the
 //! step by its own last moves, into a grid built afresh, and hands rapier the pairs whose
-//! boxes meet within the step. It prices both ways from its counts (re-plans and events
-//! against colliders) and switches back once plans hold again; `structure_name()` says
-//! `"stepped"` meanwhile. A structure the caller picks stays kinetic.
+//! boxes meet within the step; where those pairs are few (debris and bursts flying apart) it
+//! keeps fat boxes that cover each box's next steps and tests only their candidates. It
+//! prices both ways from its counts (re-plans and events against colliders and fat boxes'
+//! work) and switches back once plans pay again; `structure_name()` says `"stepped"`
+//! meanwhile. A structure the caller picks stays kinetic.
 //!
 //! The structure is picked from the first colliders' sizes unless the caller picks one
 //! ([`KineticBroadPhase::with_structure`]). Moving colliders of alike sizes (a rain, a pile)
 //! get `kinetic_flight::LooseGrid`: each proxy holds a fixed region its box stays in for a
 //! while on its plan, so a re-plan that stays inside costs one exit time, not a pass over its
-//! neighbours. A spread of sizes (a debris field) gets `kinetic_flight::Grid`, which sorts
+//! neighbours. A spread of sizes gets `kinetic_flight::Grid`, which sorts
 //! the proxies into levels by size and finds the sweep's pairs (boxes that meet) among
 //! proxies that share a cell. The sweep (Section 3.1) and guards (Section 3.2) hand over the
 //! same or fewer pairs but pay for every swap of three global orders: on the benchmark's rain
