@@ -270,9 +270,12 @@ impl SteppedGrid {
             self.boxes.push(small(&b));
         }
         self.find(keep, out);
+        out.sort_unstable();
+        out.dedup();
     }
 
-    /// The pairs of this call's boxes that `keep` keeps, into `out` (empty).
+    /// Pushes onto `out` the pairs of this call's boxes that `keep` keeps, in no order and
+    /// some more than once (the nested grids' pairs go onto the same `out`).
     fn find(&mut self, keep: &dyn Fn(u32, u32) -> bool, out: &mut Vec<(u32, u32)>) {
         self.built = false;
         self.nesting = false;
@@ -449,8 +452,6 @@ impl SteppedGrid {
                 }
             }
         }
-        out.sort_unstable();
-        out.dedup();
     }
 
     /// Chooses the cell size: the widest small box, small by the median box taken every

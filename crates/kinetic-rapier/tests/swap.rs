@@ -560,8 +560,8 @@ fn kinematic_bodies_in_fat_boxes_touch_as_with_the_default_broad_phase() {
     }
 }
 
-/// The same with sizes over more than an order: the broad phase picks the grid, and the world steps
-/// all the same, in fat boxes filed in grids nested by size.
+/// The same with sizes over more than an order: the broad phase picks the grid, and the world
+/// steps all the same, in fat boxes filed in grids nested by size.
 #[test]
 fn kinematic_debris_in_fat_boxes_touches_as_with_the_default_broad_phase() {
     let bp = against_default(22, (300, 0.02, 0.6), 200, kinetic());
