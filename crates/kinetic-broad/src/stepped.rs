@@ -17,6 +17,9 @@
 //!   an empty neighbourhood costs nothing (looking up 13 neighbouring cells a box cost the
 //!   scattered burst twice as much).
 //!
+//! The grid of another's wide boxes (below) is always hashed: the smaller boxes look it up
+//! far more than it finds pairs of its own.
+//!
 //! A wider box looks up the cells its overlapping small boxes can be filed in, and one too
 //! wide for [`WIDE_CELLS`] cells (a ground, a wall) is tested against every box; the wide
 //! ones are tested against each other. Cells that hash alike cost only tests: pairs found
@@ -293,7 +296,14 @@ impl SteppedGrid {
             let small = width(b) <= limit;
             self.cells.push(small.then(|| self.centre_cell(b)));
         }
-        self.dense = self.dense_grid();
+        // A grid of another's wide boxes is looked up by the smaller boxes far more than it
+        // finds pairs of its own: hashed, a look-up reads the cells a box overlaps (one or
+        // two a side), not those around it (two or three a side).
+        self.dense = if self.nested_in {
+            None
+        } else {
+            self.dense_grid()
+        };
         let len = match self.dense {
             Some((_, n)) => (n[0] * n[1] * n[2]) as usize,
             None => (HASHED_SLOTS * self.boxes.len()).next_power_of_two(),
