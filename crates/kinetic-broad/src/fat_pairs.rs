@@ -8,9 +8,13 @@
 //! fat box whose candidates are looked up in the grid the fat boxes were filed in (passing
 //! over the boxes it holds stale) and among the other boxes re-fattened since. Once more
 //! than one box in [`MOVED_SHARE`] has been re-fattened, all are filed afresh. A box's fat
-//! box is its box swept over [`AHEAD`] steps of its own move, grown by [`MARGIN`] of its
-//! width: a body in steady flight keeps it for those steps, a body at rest for as long as it
-//! rests.
+//! box is its box swept over some steps of its own move, grown by [`MARGIN`] of its width: a
+//! body in steady flight keeps it for those steps, a body at rest for as long as it rests.
+//! The steps: a filing costs about a box filed a box, and each candidate a test a call, so
+//! over `s` steps a call costs about `boxes / s + c s / 2` for `c` candidates a step
+//! covered, least at `s = sqrt(2 boxes / c)`; `c` is taken from the last filing, and `s`
+//! kept within [`AHEAD`] and [`MOST_AHEAD`] (the rapier bench's debris: 21 to 34 steps; its
+//! kinematic bodies and bursts, with more candidates, 16).
 //!
 //! Fat boxes pay where they last: debris, a burst flying apart, kinematic bodies on their
 //! paths. In a pile or a gas the pairs are many and bodies are pushed out of their fat
@@ -24,8 +28,10 @@
 use crate::stepped::{Aabb, SteppedGrid, overlapping};
 use kinetic_core::{Real, Vec3};
 
-/// A fat box covers this many steps of its box's move...
+/// A fat box covers at least this many steps of its box's move...
 const AHEAD: Real = 16.0;
+/// ... and at most this many...
+const MOST_AHEAD: Real = 64.0;
 /// ... and this share of its width on every side.
 const MARGIN: Real = 0.1;
 /// All fat boxes are filed afresh once more than one box in this many has been re-fattened.
@@ -79,6 +85,10 @@ pub(crate) struct FatPairs {
     /// averaged over about [`SMOOTHING`] calls (in boxes filed).
     work: Real,
     plain_work: Real,
+    /// The steps of its move a fat box covers, and the candidates a step covered at the
+    /// last filing.
+    ahead: Real,
+    candidates_a_step: Option<Real>,
     /// The frame the boxes are swept in while fat boxes hold: the one they were filed in
     /// (boxes meet as they move in any frame that moves steadily).
     frame: Vec3,
@@ -211,14 +221,24 @@ impl FatPairs {
         self.built = self.calls;
         self.ready = true;
         self.frame = boxes.frame;
+        let n = boxes.len() as Real;
+        self.ahead = match self.candidates_a_step {
+            Some(c) => (2.0 * n / c.max(1.0 / MOST_AHEAD))
+                .sqrt()
+                .clamp(AHEAD, MOST_AHEAD),
+            None => AHEAD,
+        };
+        let ahead = self.ahead;
         self.fat.clear();
-        self.fat.extend(boxes.iter().map(|b| b.map(fatten)));
+        self.fat
+            .extend(boxes.iter().map(|b| b.map(|b| fatten(b, ahead))));
         self.left.clear();
         self.left.resize(boxes.len(), 0);
         self.refat.clear();
         let fat = self.fat.iter().enumerate();
         let items = fat.filter_map(|(i, f)| Some((i as u32, (*f)?)));
         self.filed.pairs(items, &|_, _| true, &mut self.candidates);
+        self.candidates_a_step = Some(self.candidates.len() as Real / self.ahead);
     }
 
     /// Whether box `i` was re-fattened since the fat boxes were filed.
@@ -256,7 +276,7 @@ impl FatPairs {
         self.refattened += self.leaving.len() as u64;
         // New fat boxes first, so that two leaving boxes see each other's.
         for &i in &self.leaving {
-            self.fat[i as usize] = boxes.get(i).map(fatten);
+            self.fat[i as usize] = boxes.get(i).map(|b| fatten(b, self.ahead));
             if !self.moved(i) {
                 self.refat.push(i);
             }
@@ -340,10 +360,10 @@ impl Swept<'_> {
     }
 }
 
-/// The fat box of box `b` moving `d` a step: swept over [`AHEAD`] steps of that move,
+/// The fat box of box `b` moving `d` a step: swept over `steps` steps of that move,
 /// grown by [`MARGIN`] of its width on every side. A NaN box stays NaN (and never holds).
-fn fatten(((lo, hi), d): (Aabb, Vec3)) -> Aabb {
-    let ahead = d * AHEAD;
+fn fatten(((lo, hi), d): (Aabb, Vec3), steps: Real) -> Aabb {
+    let ahead = d * steps;
     let grow = Vec3::splat(MARGIN * (hi - lo).max_element());
     (
         lo + ahead.min(Vec3::ZERO) - grow,
@@ -481,6 +501,53 @@ mod tests {
             kept.rebuilds,
             kept.refattened,
             kept.calls
+        );
+    }
+
+    /// Small boxes flying apart with few pairs among them: after a filing that found few
+    /// candidates, fat boxes cover more steps (fewer filings), and the kept pairs are still
+    /// the grid's own every call.
+    #[test]
+    fn few_candidates_give_fat_boxes_covering_more_steps() {
+        let mut s = 7;
+        let n = 500;
+        let mut at: Vec<Vec3> = (0..n)
+            .map(|_| Vec3::new(next(&mut s), next(&mut s), next(&mut s)) * 40.0)
+            .collect();
+        let v: Vec<Vec3> = (0..n)
+            .map(|_| (Vec3::new(next(&mut s), next(&mut s), next(&mut s)) - 0.5) * 0.05)
+            .collect();
+        let mut kept = FatPairs::default();
+        let mut fresh = SteppedGrid::default();
+        let (mut got, mut want) = (Vec::new(), Vec::new());
+        let mut met = 0;
+        for call in 0..300 {
+            let boxes: Vec<Option<(Aabb, Vec3)>> = (0..n)
+                .map(|k| {
+                    at[k] += v[k];
+                    let h = Vec3::splat(0.05 + 0.1 * (k % 4) as Real);
+                    Some(((at[k] - h, at[k] + h), v[k]))
+                })
+                .collect();
+            kept.pairs(&boxes, Vec3::ZERO, &|_, _| true, &mut got);
+            let swept = Swept {
+                boxes: &boxes,
+                frame: Vec3::ZERO,
+            };
+            let items = swept
+                .iter()
+                .enumerate()
+                .filter_map(|(i, b)| Some((i as u32, b?.0)));
+            fresh.pairs(items, &|_, _| true, &mut want);
+            assert_eq!(got, want, "call {call}");
+            met += want.len();
+        }
+        assert!(met > 0, "no pairs to find");
+        assert!(kept.rebuilds >= 2, "{} rebuilds", kept.rebuilds);
+        assert!(
+            kept.ahead > AHEAD && kept.ahead <= MOST_AHEAD,
+            "fat boxes cover {} steps",
+            kept.ahead
         );
     }
 }
