@@ -59,13 +59,14 @@ const LAST_WAIT: u64 = 1024;
 /// Pairs of overlapping boxes, kept between calls while the boxes keep within fat boxes.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct FatPairs {
-    /// The grid the pairs are found in from scratch, and the one the fat boxes are filed in.
+    /// The grid the pairs are found in from scratch while fat boxes do not hold, and the fat
+    /// boxes are filed in while they do (one grid for both: its buffers, grown at the first
+    /// call, serve the first filing too).
     grid: SteppedGrid,
-    filed: SteppedGrid,
     /// Per index, the fat box (`None`: no box).
     fat: Vec<Option<Aabb>>,
     /// Per index, the call at which it last left its fat box: after `built`, it was
-    /// re-fattened since the fat boxes were filed (its entry in `filed` is stale).
+    /// re-fattened since the fat boxes were filed (its entry in the grid is stale).
     left: Vec<u64>,
     /// The indices re-fattened since the fat boxes were filed.
     refat: Vec<u32>,
@@ -140,7 +141,6 @@ impl FatPairs {
                 // They did not last: from scratch for a while.
                 self.wait = (2 * self.wait).clamp(FIRST_WAIT, LAST_WAIT);
                 self.plain_until = self.calls + self.wait;
-                self.ready = false;
                 self.plain(boxes, keep, out);
                 return;
             }
@@ -202,8 +202,12 @@ impl FatPairs {
         unsteady.count() * MOVED_SHARE <= boxes.len()
     }
 
-    /// The pairs found from scratch (and whether they are few).
+    /// The pairs found from scratch (and whether they are few): fat boxes no longer hold.
     fn plain(&mut self, boxes: &Swept, keep: &dyn Fn(u32, u32) -> bool, out: &mut Vec<(u32, u32)>) {
+        if self.ready {
+            self.ready = false;
+            self.grid.remeasure();
+        }
         let items = boxes.iter().enumerate();
         let items = items.filter_map(|(i, b)| Some((i as u32, b?.0)));
         self.grid.pairs(items, keep, out);
@@ -216,6 +220,7 @@ impl FatPairs {
             // Fresh from scratch: fat boxes are given the benefit of the doubt.
             self.work = 0.0;
             self.plain_work = 0.0;
+            self.grid.remeasure();
         }
         self.rebuilds += 1;
         self.built = self.calls;
@@ -237,7 +242,7 @@ impl FatPairs {
         self.refat.clear();
         let fat = self.fat.iter().enumerate();
         let items = fat.filter_map(|(i, f)| Some((i as u32, (*f)?)));
-        self.filed.pairs(items, &|_, _| true, &mut self.candidates);
+        self.grid.pairs(items, &|_, _| true, &mut self.candidates);
         self.candidates_a_step = Some(self.candidates.len() as Real / self.ahead);
     }
 
@@ -290,7 +295,7 @@ impl FatPairs {
                 continue;
             };
             self.found.clear();
-            self.filed.overlapping_with(&f, &mut self.found);
+            self.grid.overlapping_with(&f, &mut self.found);
             let (left, built) = (&self.left, self.built);
             self.found.retain(|&j| left[j as usize] <= built);
             for &j in &self.refat {

@@ -170,6 +170,12 @@ impl SteppedGrid {
         self.runs(s, s + 1)
     }
 
+    /// Takes the median box again at the next call: the boxes to come are of another kind
+    /// (fat boxes after plain ones, or back).
+    pub(crate) fn remeasure(&mut self) {
+        self.median = 0.0;
+    }
+
     /// Pushes onto `out` the ids of the last call's boxes that overlap `q` as the grid
     /// tests a pair (a box may come more than once).
     pub(crate) fn overlapping_with(&self, q: &Aabb, out: &mut Vec<u32>) {
