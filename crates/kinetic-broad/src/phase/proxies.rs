@@ -90,7 +90,9 @@ impl BroadPhaseCore {
         if let Some(s) = self.structure.as_mut() {
             s.remove(i, &self.bodies, self.clock.kds, &mut self.changes);
         }
-        self.bodies[i as usize] = None;
+        if let Some(b) = self.bodies.get_mut(i as usize) {
+            *b = None;
+        }
         self.plans[i as usize] = self.plans[i as usize].wrapping_add(1);
         self.book.touch();
     }
@@ -106,6 +108,7 @@ impl BroadPhaseCore {
             };
         }
         let plan = self.plan_of(i, &hold);
+        self.body_slots();
         self.bodies[i as usize] = Some(Body { shape, plan });
         self.plans[i as usize] = self.plans[i as usize].wrapping_add(1);
         self.book.touch();
@@ -129,11 +132,22 @@ impl BroadPhaseCore {
 
     fn grow_slots(&mut self, i: u32) {
         let need = i as usize + 1;
-        if self.bodies.len() < need {
-            self.bodies.resize(need, None);
+        if self.proxies.len() < need {
             self.plans.resize(need, 0);
             self.proxies.resize(need, None);
             self.movers.resize(need, None);
+        }
+        if !self.is_stepped() {
+            self.body_slots();
+        }
+    }
+
+    /// The structure's bodies as many as the proxies: kept only while the world is kinetic
+    /// (a stepped world has no structure, and its first step then fills no table it does not
+    /// read).
+    pub(super) fn body_slots(&mut self) {
+        if self.bodies.len() < self.proxies.len() {
+            self.bodies.resize(self.proxies.len(), None);
         }
     }
 
@@ -227,12 +241,15 @@ impl BroadPhaseCore {
             // Level with the structure's clock: all at once (an empty structure builds in bulk).
             let choice = self.structure_choice();
             let ids: Vec<u32> = holds.iter().map(|(h, _)| h.index).collect();
+            let kinetic = !self.is_stepped();
             for (h, hold) in &holds {
                 let i = h.index as usize;
-                self.bodies[i] = Some(Body {
-                    shape: self.shape(h.index, hold, choice),
-                    plan: self.plan_of(h.index, hold),
-                });
+                if kinetic {
+                    self.bodies[i] = Some(Body {
+                        shape: self.shape(h.index, hold, choice),
+                        plan: self.plan_of(h.index, hold),
+                    });
+                }
                 self.plans[i] = self.plans[i].wrapping_add(1);
                 self.book.touch();
             }
@@ -260,6 +277,7 @@ impl BroadPhaseCore {
         let choice = self.structure_choice();
         let mut s = new_structure(choice, self.clock.dt);
         let mut ids = Vec::new();
+        self.body_slots();
         for i in 0..self.proxies.len() {
             let Some(p) = self.proxies[i] else { continue };
             self.bodies[i] = Some(Body {
