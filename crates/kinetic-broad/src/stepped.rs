@@ -26,7 +26,7 @@
 //! twice are deduplicated. Nothing is allocated once the buffers have grown.
 
 use glam::Vec3A;
-use kinetic_core::{Real, Vec3};
+use kinetic_core::{Real, Vec3, floor_int};
 
 /// A box at most this many times the median box's widest side is small...
 const SMALL: f32 = 2.0;
@@ -123,16 +123,10 @@ pub(crate) fn overlapping(a: &Aabb, b: &Aabb) -> bool {
     overlap(&small(a), &small(b))
 }
 
-/// `floor(x)` as an integer, saturating (no call into the C library's `floor`).
-fn floor(x: f64) -> i64 {
-    let t = x as i64;
-    t - i64::from((t as f64) > x)
-}
-
 impl SteppedGrid {
     /// The cell holding point `p`.
     fn cell_of(&self, p: [f64; 3]) -> [i64; 3] {
-        p.map(|x| floor(x * self.inv))
+        p.map(|x| floor_int(x * self.inv))
     }
 
     /// The cell of box `b`'s centre.

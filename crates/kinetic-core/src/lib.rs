@@ -35,7 +35,7 @@ pub(crate) use kds::{EventQueue, certificates, geometry, pair_key, poly, queue, 
 
 pub use body::{Body, Shape};
 pub use brute_force::BruteForce;
-pub use math::{Quat, Real, Vec3};
+pub use math::{Quat, Real, Vec3, floor_int};
 pub use plan::FlightPlan;
 pub use prefetch::{prefetch, prefetch_all};
 pub use structure::CandidateStructure;

@@ -5,7 +5,7 @@
 //! side) rather than through 27 separate allocations; a cell's further centres go to its
 //! spill, which ordinary fluids rarely use.
 
-use crate::math::{Real, Vec3};
+use crate::math::{Real, Vec3, round_near};
 use crate::prefetch::prefetch;
 use rustc_hash::FxHashMap;
 
@@ -16,12 +16,6 @@ use rustc_hash::FxHashMap;
 struct Filed {
     at: [f32; 3],
     id: u32,
-}
-
-/// Rounds each of `x` to the nearest integer, for magnitudes below 2^51.
-#[inline]
-fn round(x: Real) -> Real {
-    (x + super::ROUNDING) - super::ROUNDING
 }
 
 /// A uniform grid over one period of the box, each cell holding the list centres that lie in
@@ -262,7 +256,7 @@ impl CentreGrid {
             let mut d2 = 0.0;
             for k in 0..3 {
                 let x = me[k] - Real::from(f.at[k]);
-                let x = (x - round(x)) * side[k];
+                let x = (x - round_near(x)) * side[k];
                 d2 += x * x;
             }
             len += usize::from(d2 < reach2(f));

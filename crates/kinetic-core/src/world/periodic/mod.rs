@@ -39,7 +39,7 @@ mod validate;
 use super::motion::Motion;
 use super::step::ZenoGuard;
 use super::{ContactEvent, Stats};
-use crate::math::{Real, Vec3};
+use crate::math::{ROUNDING, Real, Vec3};
 use calendar::Calendar;
 use rustc_hash::FxHashMap;
 
@@ -170,10 +170,6 @@ impl Period {
         }
     }
 }
-
-/// Added to and taken off a number below 2^51 in magnitude, rounds it to the nearest integer
-/// (ties to even) without a library call: 1.5 * 2^52.
-const ROUNDING: Real = 6_755_399_441_055_744.0;
 
 /// Rounds each coordinate to the nearest integer (ties to even) for magnitudes below 2^51,
 /// without a library call.

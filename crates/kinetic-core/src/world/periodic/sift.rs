@@ -150,7 +150,7 @@ impl PeriodicSpheres {
         );
         let (mp, mv, mt0) = (splat3(m.position), splat3(m.velocity), splat(m.t0));
         let radius = splat(m.radius);
-        let magic = splat(super::ROUNDING);
+        let magic = splat(crate::math::ROUNDING);
         let (bound4, slack) = (splat(bound), splat(bound.abs() * 1e-15));
         let (infinity, widen) = (splat(Real::INFINITY), splat(1.0 + 1e-9));
         let ahead_now = _mm256_sub_pd(bound4, now4);
