@@ -227,13 +227,17 @@ impl FatPairs {
         self.ready = true;
         self.frame = boxes.frame;
         let n = boxes.len() as Real;
-        self.ahead = match self.candidates_a_step {
+        let ahead = match self.candidates_a_step {
             Some(c) => (2.0 * n / c.max(1.0 / MOST_AHEAD))
                 .sqrt()
                 .clamp(AHEAD, MOST_AHEAD),
             None => AHEAD,
         };
-        let ahead = self.ahead;
+        if ahead != self.ahead {
+            // Fat boxes of another length: the grid's cells follow them.
+            self.grid.remeasure();
+            self.ahead = ahead;
+        }
         self.fat.clear();
         self.fat
             .extend(boxes.iter().map(|b| b.map(|b| fatten(b, ahead))));

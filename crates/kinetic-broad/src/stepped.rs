@@ -164,10 +164,13 @@ impl SteppedGrid {
         self.runs(s, s + 1)
     }
 
-    /// Takes the median box again at the next call: the boxes to come are of another kind
-    /// (fat boxes after plain ones, or back).
+    /// Takes the median box again at the next call, in the nested grids too: the boxes to
+    /// come are of another kind (fat boxes after plain ones, or fatter ones).
     pub(crate) fn remeasure(&mut self) {
         self.median = 0.0;
+        if let Some(inner) = self.inner.as_deref_mut() {
+            inner.remeasure();
+        }
     }
 
     /// Pushes onto `out` the ids of the last call's boxes that overlap `q` as the grid
