@@ -389,6 +389,28 @@ mod tests {
     use super::*;
     use crate::stepped::tests::next;
 
+    /// One call of `kept` against the pairs the grid finds afresh from the same boxes swept
+    /// in `frame`: the same pairs, of which it returns how many.
+    fn same_as_fresh(
+        kept: &mut FatPairs,
+        fresh: &mut SteppedGrid,
+        boxes: &[Option<(Aabb, Vec3)>],
+        frame: Vec3,
+        keep: &dyn Fn(u32, u32) -> bool,
+        call: usize,
+    ) -> usize {
+        let (mut got, mut want) = (Vec::new(), Vec::new());
+        kept.pairs(boxes, frame, keep, &mut got);
+        let swept = Swept { boxes, frame };
+        let items = swept
+            .iter()
+            .enumerate()
+            .filter_map(|(i, b)| Some((i as u32, b?.0)));
+        fresh.pairs(items, keep, &mut want);
+        assert_eq!(got, want, "call {call}");
+        want.len()
+    }
+
     /// Boxes flying apart and boxes jostling in a heap, over many calls, with boxes coming
     /// and going and one that turns about: the kept pairs are the grid's own every call,
     /// and the fat boxes are found afresh far fewer times than there are calls.
@@ -408,7 +430,6 @@ mod tests {
             .collect();
         let mut kept = FatPairs::default();
         let mut fresh = SteppedGrid::default();
-        let (mut got, mut want) = (Vec::new(), Vec::new());
         for call in 0..200 {
             let boxes: Vec<Option<(Aabb, Vec3)>> = (0..n)
                 .map(|k| {
@@ -429,21 +450,8 @@ mod tests {
             let keep = |a: u32, b: u32| !(a + b).is_multiple_of(5);
             // The boxes are swept in a frame drifting a little.
             let frame = Vec3::new(0.01, -0.005, 0.0);
-            kept.pairs(&boxes, frame, &keep, &mut got);
-            let swept = Swept {
-                boxes: &boxes,
-                frame,
-            };
-            let items = swept
-                .iter()
-                .enumerate()
-                .filter_map(|(i, b)| Some((i as u32, b?.0)));
-            fresh.pairs(items, &keep, &mut want);
-            assert_eq!(got, want, "call {call}");
-            assert!(
-                !want.is_empty() || call > 20,
-                "call {call}: no pairs to find"
-            );
+            let found = same_as_fresh(&mut kept, &mut fresh, &boxes, frame, &keep, call);
+            assert!(found > 0 || call > 20, "call {call}: no pairs to find");
         }
         assert!(
             kept.rebuilds * 4 < kept.calls && kept.refattened > 0,
@@ -483,7 +491,6 @@ mod tests {
         let at = |k: usize, t: Real| base[k] + pace[k].0 * (pace[k].1 * t).sin();
         let mut kept = FatPairs::default();
         let mut fresh = SteppedGrid::default();
-        let (mut got, mut want) = (Vec::new(), Vec::new());
         let mut met = 0;
         for call in 0..400 {
             let t = call as Real;
@@ -494,18 +501,14 @@ mod tests {
                     Some(((c - h, c + h), d))
                 })
                 .collect();
-            kept.pairs(&boxes, Vec3::ZERO, &|_, _| true, &mut got);
-            let swept = Swept {
-                boxes: &boxes,
-                frame: Vec3::ZERO,
-            };
-            let items = swept
-                .iter()
-                .enumerate()
-                .filter_map(|(i, b)| Some((i as u32, b?.0)));
-            fresh.pairs(items, &|_, _| true, &mut want);
-            assert_eq!(got, want, "call {call}");
-            met += want.len();
+            met += same_as_fresh(
+                &mut kept,
+                &mut fresh,
+                &boxes,
+                Vec3::ZERO,
+                &|_, _| true,
+                call,
+            );
         }
         assert!(met > 0, "no pairs to find");
         assert!(
@@ -532,7 +535,6 @@ mod tests {
             .collect();
         let mut kept = FatPairs::default();
         let mut fresh = SteppedGrid::default();
-        let (mut got, mut want) = (Vec::new(), Vec::new());
         let mut met = 0;
         for call in 0..300 {
             let boxes: Vec<Option<(Aabb, Vec3)>> = (0..n)
@@ -542,18 +544,14 @@ mod tests {
                     Some(((at[k] - h, at[k] + h), v[k]))
                 })
                 .collect();
-            kept.pairs(&boxes, Vec3::ZERO, &|_, _| true, &mut got);
-            let swept = Swept {
-                boxes: &boxes,
-                frame: Vec3::ZERO,
-            };
-            let items = swept
-                .iter()
-                .enumerate()
-                .filter_map(|(i, b)| Some((i as u32, b?.0)));
-            fresh.pairs(items, &|_, _| true, &mut want);
-            assert_eq!(got, want, "call {call}");
-            met += want.len();
+            met += same_as_fresh(
+                &mut kept,
+                &mut fresh,
+                &boxes,
+                Vec3::ZERO,
+                &|_, _| true,
+                call,
+            );
         }
         assert!(met > 0, "no pairs to find");
         assert!(kept.rebuilds >= 2, "{} rebuilds", kept.rebuilds);

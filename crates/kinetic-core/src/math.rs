@@ -40,16 +40,12 @@ pub fn floor_int(x: Real) -> i64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
 
     #[test]
     fn floor_int_is_the_floor_as_an_integer() {
-        let mut s = 1u64;
-        let mut next = || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 11) as Real / (1u64 << 53) as Real
-        };
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
         let mut xs = vec![
             0.0,
             -0.0,
@@ -75,7 +71,7 @@ mod tests {
         ];
         for k in 0..10_000 {
             let scale = 10f64.powi(k % 20 - 4);
-            xs.push((next() - 0.5) * scale);
+            xs.push(rng.random_range(-0.5..0.5) * scale);
         }
         for x in xs {
             assert_eq!(floor_int(x), x.floor() as i64, "{x}");
