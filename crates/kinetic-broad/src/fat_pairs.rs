@@ -411,6 +411,22 @@ mod tests {
         want.len()
     }
 
+    /// `calls` calls of fat pairs on the boxes `boxes_at(call)` gives, each against the
+    /// grid's pairs found afresh (no frame, every pair kept): the fat pairs after them and
+    /// the pairs found in all.
+    fn run_calls(
+        calls: usize,
+        mut boxes_at: impl FnMut(usize) -> Vec<Option<(Aabb, Vec3)>>,
+    ) -> (FatPairs, usize) {
+        let (mut kept, mut fresh, mut met) = (FatPairs::default(), SteppedGrid::default(), 0);
+        for call in 0..calls {
+            let boxes = boxes_at(call);
+            let keep = |_, _| true;
+            met += same_as_fresh(&mut kept, &mut fresh, &boxes, Vec3::ZERO, &keep, call);
+        }
+        (kept, met)
+    }
+
     /// Boxes flying apart and boxes jostling in a heap, over many calls, with boxes coming
     /// and going and one that turns about: the kept pairs are the grid's own every call,
     /// and the fat boxes are found afresh far fewer times than there are calls.
@@ -489,27 +505,16 @@ mod tests {
             })
             .collect();
         let at = |k: usize, t: Real| base[k] + pace[k].0 * (pace[k].1 * t).sin();
-        let mut kept = FatPairs::default();
-        let mut fresh = SteppedGrid::default();
-        let mut met = 0;
-        for call in 0..400 {
+        let (kept, met) = run_calls(400, |call| {
             let t = call as Real;
-            let boxes: Vec<Option<(Aabb, Vec3)>> = (0..n)
+            (0..n)
                 .map(|k| {
                     let (c, d) = (at(k, t), at(k, t + 1.0) - at(k, t));
                     let h = Vec3::splat(0.3);
                     Some(((c - h, c + h), d))
                 })
-                .collect();
-            met += same_as_fresh(
-                &mut kept,
-                &mut fresh,
-                &boxes,
-                Vec3::ZERO,
-                &|_, _| true,
-                call,
-            );
-        }
+                .collect()
+        });
         assert!(met > 0, "no pairs to find");
         assert!(
             kept.refattened > 10 * kept.rebuilds && kept.rebuilds > 0,
@@ -533,26 +538,15 @@ mod tests {
         let v: Vec<Vec3> = (0..n)
             .map(|_| (Vec3::new(next(&mut s), next(&mut s), next(&mut s)) - 0.5) * 0.05)
             .collect();
-        let mut kept = FatPairs::default();
-        let mut fresh = SteppedGrid::default();
-        let mut met = 0;
-        for call in 0..300 {
-            let boxes: Vec<Option<(Aabb, Vec3)>> = (0..n)
+        let (kept, met) = run_calls(300, |_| {
+            (0..n)
                 .map(|k| {
                     at[k] += v[k];
                     let h = Vec3::splat(0.05 + 0.1 * (k % 4) as Real);
                     Some(((at[k] - h, at[k] + h), v[k]))
                 })
-                .collect();
-            met += same_as_fresh(
-                &mut kept,
-                &mut fresh,
-                &boxes,
-                Vec3::ZERO,
-                &|_, _| true,
-                call,
-            );
-        }
+                .collect()
+        });
         assert!(met > 0, "no pairs to find");
         assert!(kept.rebuilds >= 2, "{} rebuilds", kept.rebuilds);
         assert!(
