@@ -220,9 +220,13 @@ pub fn for_steps(radii: impl IntoIterator<Item = Real>) -> Choice {
     if r.is_empty() {
         return Choice::Grid;
     }
-    r.sort_unstable_by(Real::total_cmp);
-    let pick = |q: Real| r[((r.len() - 1) as Real * q).round() as usize];
-    if pick(0.99) <= SIZES_ALIKE * pick(0.01) {
+    // The radii at two ranks, each found in linear time (no need to sort them all).
+    let mut pick = |q: Real| {
+        let rank = ((r.len() - 1) as Real * q).round() as usize;
+        *r.select_nth_unstable_by(rank, Real::total_cmp).1
+    };
+    let (large, small) = (pick(0.99), pick(0.01));
+    if large <= SIZES_ALIKE * small {
         Choice::Loose
     } else {
         Choice::Grid
@@ -349,5 +353,25 @@ mod tests {
         assert_eq!(for_steps(r.iter().copied()), Choice::Loose);
         let spread_wide: Vec<Real> = (0..200).map(|i| 1.0 + i as Real).collect();
         assert_eq!(for_steps(spread_wide), Choice::Grid);
+        // The ranks as a full sort gives them, on spreads either side of the line.
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(4);
+        let mut both = [0; 2];
+        for k in 0..400 {
+            let spread = 1.0 + 14.0 * (k as Real / 400.0);
+            let n = rng.random_range(1..300);
+            let r: Vec<Real> = (0..n).map(|_| rng.random_range(1.0..=spread)).collect();
+            let mut sorted = r.clone();
+            sorted.sort_unstable_by(Real::total_cmp);
+            let at = |q: Real| sorted[((n - 1) as Real * q).round() as usize];
+            let want = if at(0.99) <= SIZES_ALIKE * at(0.01) {
+                Choice::Loose
+            } else {
+                Choice::Grid
+            };
+            assert_eq!(for_steps(r), want, "spread {spread}, {n} radii");
+            both[usize::from(want == Choice::Loose)] += 1;
+        }
+        assert!(both[0] > 0 && both[1] > 0, "{both:?}");
     }
 }
