@@ -224,11 +224,9 @@ impl FatPairs {
             // Fresh from scratch: fat boxes are given the benefit of the doubt.
             self.work = 0.0;
             self.plain_work = 0.0;
-            self.grid.remeasure();
         }
         self.rebuilds += 1;
         self.built = self.calls;
-        self.ready = true;
         self.frame = boxes.frame;
         let n = boxes.len() as Real;
         let ahead = match self.candidates_a_step {
@@ -237,11 +235,12 @@ impl FatPairs {
                 .clamp(AHEAD, MOST_AHEAD),
             None => AHEAD,
         };
-        if ahead != self.ahead {
-            // Fat boxes of another length: the grid's cells follow them.
+        if !self.ready || ahead != self.ahead {
+            // Fat boxes after plain ones, or of another length: the grid's cells follow them.
             self.grid.remeasure();
             self.ahead = ahead;
         }
+        self.ready = true;
         self.fat.clear();
         self.fat
             .extend(boxes.iter().map(|b| b.map(|b| fatten(b, ahead))));
