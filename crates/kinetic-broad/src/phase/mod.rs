@@ -25,6 +25,7 @@ use crate::{Hold, Key, Slack};
 use kinetic_core::kds::PairChange;
 use kinetic_core::{Body, CandidateStructure, FlightPlan, Real, Vec3};
 use kinetic_flight::Choice;
+use smallvec::SmallVec;
 
 /// Steps over which a body must stay within half its slack to be planned at rest.
 const REST_STEPS: Real = 30.0;
@@ -78,7 +79,8 @@ struct Motion {
     /// [`RESTLESS_UPDATES`] of the one before.
     replanned: u64,
     restless: u32,
-    colliders: Vec<u32>,
+    /// Its colliders (one or two most often: held in place, not on the heap).
+    colliders: SmallVec<[u32; 2]>,
     /// Its velocity at the last position update that moved it, and which update that was.
     last_v: Vec3,
     seen: u64,

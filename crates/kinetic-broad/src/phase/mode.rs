@@ -54,7 +54,7 @@ const PRICE_EVERY: u64 = 12;
 /// ... or this many times as many while fat boxes hold its pairs: a world flying apart,
 /// where reading every body's state is most of a step's work and plans would seldom be
 /// cheaper.
-const FAT_PRICE_SPACING: u64 = 4;
+const FAT_PRICE_SPACING: u64 = 8;
 /// A stepped world goes back to kinetic after this many counts running priced it cheaper...
 const CALM_COUNTS: u32 = 2;
 /// ... or up to this many, after kinetic stretches that did not last...

@@ -5,6 +5,7 @@ use super::{BroadPhaseCore, Motion};
 use super::{CALM_UPDATES, MAX_GROWTH, REST_STEPS, RESTLESS_RUN, RESTLESS_UPDATES};
 use crate::{BodyState, Engine, Hold, Key, Step, fit};
 use kinetic_core::{FlightPlan, Real, Vec3};
+use smallvec::SmallVec;
 
 impl Motion {
     /// How much its base slack is grown: `2^growth`.
@@ -43,7 +44,7 @@ impl BroadPhaseCore {
             growth: 0,
             replanned: 0,
             restless: 0,
-            colliders: Vec::new(),
+            colliders: SmallVec::new(),
             last_v: rb.velocity,
             seen: u64::MAX,
             last_a: None,
@@ -100,6 +101,11 @@ impl BroadPhaseCore {
         first: bool,
     ) -> Option<bool> {
         let rb = engine.body(h)?;
+        Some(self.refit_to(h, &rb, step, first))
+    }
+
+    /// [`BroadPhaseCore::refit`] for body `h` in state `rb`, as the engine gives it now.
+    pub(super) fn refit_to(&mut self, h: Key, rb: &BodyState, step: Step, first: bool) -> bool {
         let t = self.clock.pos;
         let dt = self.clock.dt.max(step.dt);
         let m = self.motions.get_mut(h).expect("a motion");
@@ -149,7 +155,7 @@ impl BroadPhaseCore {
             m.listed = true;
             self.moving.push(h);
         }
-        Some(resized)
+        resized
     }
 
     /// Gives the structure body `h`'s new plan for each of its colliders; `resized`: with

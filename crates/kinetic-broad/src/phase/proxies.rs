@@ -3,7 +3,7 @@
 
 use super::{BroadPhaseCore, Proxy, Structure};
 use super::{REGION_MARGIN, REGION_STEPS};
-use crate::{Engine, Hold, Key, Seen, Step};
+use crate::{BodyState, Engine, Hold, Key, Step};
 use kinetic_core::{Body, FlightPlan, Real, Shape, Vec3};
 use kinetic_flight::{Choice, ConvexShape, Grid, Guards, LooseGrid, Sweep};
 
@@ -77,7 +77,7 @@ impl BroadPhaseCore {
         if let Hold::Moving { body, .. } = proxy.hold
             && let Some(m) = self.motions.get_mut(body)
         {
-            m.colliders.retain(|&c| c != i);
+            m.colliders.retain(|c| *c != i);
             if m.colliders.is_empty() {
                 self.motions.remove(body);
                 self.moving.retain(|&b| b != body);
@@ -151,19 +151,24 @@ impl BroadPhaseCore {
         }
     }
 
-    /// Adds the colliders `new` (enabled, not held) at the positions' time.
-    pub(super) fn install(&mut self, new: &[Key], engine: &impl Engine, step: Step, update: u64) {
+    /// Adds the colliders `new` (enabled, not held, with their holds) at the positions' time.
+    pub(super) fn install(
+        &mut self,
+        new: &[(Key, Hold)],
+        engine: &impl Engine,
+        step: Step,
+        update: u64,
+    ) {
         if new.is_empty() {
             return;
         }
-        let holds: Vec<(Key, Hold)> = new
+        // Each moving hold's body read once. A moving hold whose body the engine does not
+        // give breaks the contract: the collider waits until it is changed again.
+        let holds: Vec<(Key, Hold, Option<BodyState>)> = new
             .iter()
-            .filter_map(|&h| match engine.collider(h, self.slack) {
-                // A moving hold whose body the engine does not give breaks the contract: the
-                // collider waits until it is changed again.
-                Seen::Held(Hold::Moving { body, .. }) if engine.body(body).is_none() => None,
-                Seen::Held(hold) => Some((h, hold)),
-                Seen::Missing | Seen::Disabled => None,
+            .filter_map(|&(h, hold)| match hold {
+                Hold::Moving { body, .. } => engine.body(body).map(|s| (h, hold, Some(s))),
+                Hold::Fixed { .. } => Some((h, hold, None)),
             })
             .collect();
         if self.choice.is_none() {
@@ -173,10 +178,10 @@ impl BroadPhaseCore {
             // A world starts stepped, its first steps showing whether plans hold, unless most
             // of its bodies sleep (plans at rest, which hold for as long as they sleep).
             let (mut moving, mut asleep) = (0, 0);
-            for (_, hold) in &holds {
-                if let Hold::Moving { body, .. } = *hold {
+            for (_, _, state) in &holds {
+                if let Some(state) = state {
                     moving += 1;
-                    asleep += usize::from(engine.body(body).is_some_and(|b| b.sleeping));
+                    asleep += usize::from(state.sleeping);
                 }
             }
             if self.may_step() && 2 * asleep < moving.max(1) {
@@ -186,10 +191,10 @@ impl BroadPhaseCore {
             }
         }
         // The tables grown once for the bulk, not copied over as they double.
-        if let Some(last) = holds.iter().map(|(h, _)| h.index).max() {
+        if let Some(last) = holds.iter().map(|(h, ..)| h.index).max() {
             self.grow_slots(last);
         }
-        let bodies = holds.iter().filter_map(|(_, hold)| match hold {
+        let bodies = holds.iter().filter_map(|(_, hold, _)| match hold {
             Hold::Moving { body, .. } => Some(body.index as usize),
             Hold::Fixed { .. } => None,
         });
@@ -198,17 +203,16 @@ impl BroadPhaseCore {
         }
         // Plans first: a body seen for the first time gets a plan fitted to its state now; a
         // body already moving keeps its plan for the collider it gains.
-        for &(h, hold) in &holds {
+        for &(h, hold, state) in &holds {
             let i = h.index;
             self.grow_slots(i);
-            if let Hold::Moving { body, slack, .. } = hold {
+            if let (Hold::Moving { body, slack, .. }, Some(state)) = (hold, state) {
                 let fresh = !self.motions.contains(body);
                 if fresh {
-                    let state = engine.body(body).expect("checked when held");
                     let m = self.motion_for(body, &state, slack);
                     m.colliders.push(i);
                     m.seen = update;
-                    self.refit(body, engine, step, true);
+                    self.refit_to(body, &state, step, true);
                     // A body that starts at rest is held by fat boxes where the engine gives
                     // them.
                     let stepped = self.is_stepped();
@@ -240,9 +244,9 @@ impl BroadPhaseCore {
         if grow == 0.0 {
             // Level with the structure's clock: all at once (an empty structure builds in bulk).
             let choice = self.structure_choice();
-            let ids: Vec<u32> = holds.iter().map(|(h, _)| h.index).collect();
+            let ids: Vec<u32> = holds.iter().map(|(h, ..)| h.index).collect();
             let kinetic = !self.is_stepped();
-            for (h, hold) in &holds {
+            for (h, hold, _) in &holds {
                 let i = h.index as usize;
                 if kinetic {
                     self.bodies[i] = Some(Body {
@@ -261,7 +265,7 @@ impl BroadPhaseCore {
             self.book.apply(&mut self.changes, self.clock.kds);
             return;
         }
-        for (h, hold) in holds {
+        for (h, hold, _) in holds {
             let i = h.index;
             let g = grow + self.own_reach(&hold);
             self.put_in(i, hold, g);
@@ -327,8 +331,8 @@ fn box_shape(min: Vec3, max: Vec3, choice: Choice) -> Shape {
 
 /// The structure for the first colliders `holds`, by the registry's rule for stepping
 /// engines ([`kinetic_flight::for_steps`]) over the moving ones' radii.
-fn pick_structure(holds: &[(Key, Hold)]) -> Choice {
-    kinetic_flight::for_steps(holds.iter().filter_map(|(_, h)| match *h {
+fn pick_structure(holds: &[(Key, Hold, Option<BodyState>)]) -> Choice {
+    kinetic_flight::for_steps(holds.iter().filter_map(|(_, h, _)| match *h {
         Hold::Moving { radius, .. } => Some(radius),
         _ => None,
     }))

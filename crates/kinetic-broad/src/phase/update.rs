@@ -85,7 +85,7 @@ impl BroadPhaseCore {
                 Seen::Held(hold) => hold,
             };
             if !self.knows(h) {
-                new.push(h);
+                new.push((h, hold));
                 continue;
             }
             let i = h.index as usize;
@@ -93,7 +93,7 @@ impl BroadPhaseCore {
             if !held.same(&hold) {
                 // A new shape, body or body type: held afresh.
                 self.detach(i as u32, false);
-                new.push(h);
+                new.push((h, hold));
             } else if let Hold::Moving { body, .. } = hold {
                 moved.push(body);
             }
