@@ -386,7 +386,7 @@ fn fatten(((lo, hi), d): (Aabb, Vec3), steps: Real) -> Aabb {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::stepped::tests::next;
+    use crate::stepped::tests::{next, next_vec};
 
     /// One call of `kept` against the pairs the grid finds afresh from the same boxes swept
     /// in `frame`: the same pairs, of which it returns how many.
@@ -433,9 +433,7 @@ mod tests {
     fn kept_pairs_are_the_grids_own_at_every_call() {
         let mut s = 3;
         let n = 300;
-        let mut at: Vec<Vec3> = (0..n)
-            .map(|_| Vec3::new(next(&mut s), next(&mut s), next(&mut s)) * 12.0)
-            .collect();
+        let mut at: Vec<Vec3> = (0..n).map(|_| next_vec(&mut s) * 12.0).collect();
         let v: Vec<Vec3> = (0..n)
             .map(|k| {
                 let out = at[k] - Vec3::splat(6.0);
@@ -451,7 +449,7 @@ mod tests {
                     if (k + call / 50) % 37 == 0 {
                         return None; // gone for a while
                     }
-                    let jitter = Vec3::new(next(&mut s), next(&mut s), next(&mut s)) - 0.5;
+                    let jitter = next_vec(&mut s) - 0.5;
                     let shake = if k % 20 == 0 { 0.004 } else { 0.0 };
                     let mut d = v[k] + jitter * shake;
                     if k == 11 && call >= 100 {
@@ -487,8 +485,8 @@ mod tests {
         // Twos that meet now and then, and boxes alone: few pairs, as in debris.
         let base: Vec<Vec3> = (0..n / 4)
             .flat_map(|_| {
-                let c = Vec3::new(next(&mut s), next(&mut s), next(&mut s)) * 200.0;
-                let far = Vec3::new(next(&mut s), next(&mut s), next(&mut s)) * 200.0;
+                let c = next_vec(&mut s) * 200.0;
+                let far = next_vec(&mut s) * 200.0;
                 [
                     c,
                     c + Vec3::new(0.6, 0.1, 0.0),
@@ -499,7 +497,7 @@ mod tests {
             .collect();
         let pace: Vec<(Vec3, Real)> = (0..n)
             .map(|_| {
-                let axis = Vec3::new(next(&mut s), next(&mut s), next(&mut s)) - 0.5;
+                let axis = next_vec(&mut s) - 0.5;
                 (axis, 0.005 + 0.015 * next(&mut s))
             })
             .collect();
@@ -531,12 +529,8 @@ mod tests {
     fn few_candidates_give_fat_boxes_covering_more_steps() {
         let mut s = 7;
         let n = 500;
-        let mut at: Vec<Vec3> = (0..n)
-            .map(|_| Vec3::new(next(&mut s), next(&mut s), next(&mut s)) * 40.0)
-            .collect();
-        let v: Vec<Vec3> = (0..n)
-            .map(|_| (Vec3::new(next(&mut s), next(&mut s), next(&mut s)) - 0.5) * 0.05)
-            .collect();
+        let mut at: Vec<Vec3> = (0..n).map(|_| next_vec(&mut s) * 40.0).collect();
+        let v: Vec<Vec3> = (0..n).map(|_| (next_vec(&mut s) - 0.5) * 0.05).collect();
         let (kept, met) = run_calls(300, |_| {
             (0..n)
                 .map(|k| {

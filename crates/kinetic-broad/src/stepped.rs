@@ -524,6 +524,11 @@ pub(crate) mod tests {
         (*s >> 11) as Real / (1u64 << 53) as Real
     }
 
+    /// A point of the unit cube from the same generator.
+    pub(crate) fn next_vec(s: &mut u64) -> Vec3 {
+        Vec3::new(next(s), next(s), next(s))
+    }
+
     /// The grid's pairs against every pair tested.
     fn check(grid: &mut SteppedGrid, items: &[(u32, Aabb)], what: &str) {
         let mut out = Vec::new();
@@ -571,7 +576,7 @@ pub(crate) mod tests {
         for round in 0..4 {
             let mut items = Vec::new();
             for id in 0..400u32 {
-                let c = Vec3::new(next(&mut s), next(&mut s), next(&mut s)) * 20.0;
+                let c = next_vec(&mut s) * 20.0;
                 // Mostly small boxes, a few wide ones (a ground) and one with a NaN.
                 let h = if id % 97 == 0 {
                     Vec3::new(15.0, 0.5, 15.0)
@@ -601,9 +606,9 @@ pub(crate) mod tests {
             let mut centre = Vec3::ZERO;
             for id in 0..600u32 {
                 if id % 6 == 0 {
-                    centre = Vec3::new(next(&mut s), next(&mut s), next(&mut s)) * 5000.0;
+                    centre = next_vec(&mut s) * 5000.0;
                 }
-                let c = centre + Vec3::new(next(&mut s), next(&mut s), next(&mut s)) * 2.0;
+                let c = centre + next_vec(&mut s) * 2.0;
                 // Mostly small boxes, a few wide ones and one with a NaN.
                 let h = if id % 151 == 0 {
                     Vec3::new(40.0, 0.5, 40.0)
@@ -634,14 +639,13 @@ pub(crate) mod tests {
             // A lattice of boxes that touch their neighbours, jittered.
             for k in 0..1000u32 {
                 let (x, y, z) = (k % 10, (k / 10) % 10, k / 100);
-                let c = Vec3::new(x as Real, y as Real, z as Real) * 0.5
-                    + Vec3::new(next(&mut s), next(&mut s), next(&mut s)) * 0.05;
-                let h = Vec3::new(next(&mut s), next(&mut s), next(&mut s)) * 0.05 + 0.2;
+                let c = Vec3::new(x as Real, y as Real, z as Real) * 0.5 + next_vec(&mut s) * 0.05;
+                let h = next_vec(&mut s) * 0.05 + 0.2;
                 items.push((k, (c - h, c + h)));
             }
             // Wide boxes of many sizes, more than make a grid of their own.
             for k in 0..60u32 {
-                let c = Vec3::new(next(&mut s), next(&mut s), next(&mut s)) * 5.0;
+                let c = next_vec(&mut s) * 5.0;
                 let h = Vec3::splat(0.6 * (1.0 + 8.0 * next(&mut s)));
                 items.push((2000 + k, (c - h, c + h)));
             }
@@ -669,7 +673,7 @@ pub(crate) mod tests {
             for id in 0..3000u32 {
                 // The number of boxes of radius at least r falls as 1 / r, from 0.01 to 10.
                 let r = 1.0 / (100.0 - next(&mut s) * 99.9);
-                let c = Vec3::new(next(&mut s), next(&mut s), next(&mut s)) * 60.0;
+                let c = next_vec(&mut s) * 60.0;
                 let h = Vec3::new(1.0, 0.5 + next(&mut s), 1.0) * r;
                 items.push((id * 3 + round, (c - h, c + h)));
             }
