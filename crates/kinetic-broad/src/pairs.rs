@@ -322,18 +322,22 @@ fn proxies_overlap_until(a: &Body, b: &Body, t0: Real) -> Real {
 }
 
 /// For proxies `a` and `b` that cannot meet between `t0` and `t1`, a time before which they
-/// cannot meet, at least `t1`: beyond the window, a lower bound from the balls about them
-/// (their own, or about their boxes), the gap now less the most the relative velocity and
-/// acceleration can close.
+/// cannot meet, at least `t1`: beyond the window, the gap now less the most the relative
+/// velocity and acceleration can close. Two balls' gap is that of their centres less the
+/// radii; other shapes meet when their boxes do, and their gap is the larger of the boxes'
+/// separation along an axis and the gap of the balls about the boxes (a box reaches as far
+/// as its corners): the relative motion covers each before the boxes meet.
 fn apart_after(a: &Body, b: &Body, t0: Real, t1: Real) -> Real {
     let (pa, pb) = (a.plan.position_at(t0), b.plan.position_at(t0));
-    // Two balls meet when their centres come within the sum of the radii; other shapes when
-    // their boxes meet, and a box reaches as far as its corners (a ball's, r sqrt 3).
-    let reach = match (&a.shape, &b.shape) {
-        (Shape::Ball { radius: ra }, Shape::Ball { radius: rb }) => ra + rb,
-        _ => box_reach(a) + box_reach(b),
+    let gap = match (&a.shape, &b.shape) {
+        (Shape::Ball { radius: ra }, Shape::Ball { radius: rb }) => (pa - pb).length() - ra - rb,
+        _ => {
+            let ((alo, ahi), (blo, bhi)) = (swept_box(a, t0, t0), swept_box(b, t0, t0));
+            let apart = (blo - ahi).max(alo - bhi).max_element();
+            apart.max((pa - pb).length() - box_reach(a) - box_reach(b))
+        }
     };
-    let gap = (pa - pb).length() - reach - 2.0 * tolerance(a, b, pa, pb);
+    let gap = gap - 2.0 * tolerance(a, b, pa, pb);
     time_to_cover(a, b, t0, gap).map_or(t1, |tau| t1.max(t0 + tau))
 }
 
@@ -414,7 +418,9 @@ fn swept_box(body: &Body, t0: Real, t1: Real) -> (Vec3, Vec3) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::stepped::tests::{next, next_vec};
     use kinetic_core::FlightPlan;
+    use kinetic_flight::ConvexShape;
 
     fn change(a: u32, b: u32, delta: i32) -> PairChange {
         PairChange { a, b, delta }
@@ -543,9 +549,7 @@ mod tests {
         // diagonal: their boxes meet corner to corner when the ball's centre is at
         // (1.5, 1.5, 1.5), at t = 3.5, before the two outer balls could touch.
         let cube = Body {
-            shape: kinetic_flight::ConvexShape::cuboid(Vec3::splat(0.5))
-                .unwrap()
-                .into_shape(),
+            shape: ConvexShape::cuboid(Vec3::splat(0.5)).unwrap().into_shape(),
             plan: FlightPlan::at_rest(Vec3::ZERO),
         };
         let ball = ball(1.0, FlightPlan::linear(Vec3::splat(5.0), Vec3::splat(-1.0)));
@@ -555,6 +559,59 @@ mod tests {
             assert!((1.0..=3.5).contains(&until), "{until}");
             assert!(!proxies_meet(a, b, 0.0, until));
         }
+    }
+
+    #[test]
+    fn boxes_side_by_side_are_apart_until_their_gap_can_close() {
+        // Unit cubes 0.1 apart along x, closing at 0.1: the balls about their boxes overlap,
+        // but the boxes cannot meet before t = 1.
+        let cube = |x: Real, v: Real| Body {
+            shape: ConvexShape::cuboid(Vec3::splat(0.5)).unwrap().into_shape(),
+            plan: FlightPlan::linear(Vec3::new(x, 0.0, 0.0), Vec3::new(v, 0.0, 0.0)),
+        };
+        let (a, b) = (cube(0.0, 0.0), cube(1.1, -0.1));
+        let until = proxies_apart_until(&a, &b, 0.0, 0.5);
+        assert!((until - 1.0).abs() < 1e-6, "{until}");
+        assert!(proxies_meet(&a, &b, 0.0, 1.0 + 1e-6));
+    }
+
+    #[test]
+    fn proxies_apart_until_a_time_meet_at_no_instant_before_it() {
+        // Balls and boxes on random accelerated plans: at no instant before the bound do
+        // their boxes overlap (balls: come within their radii).
+        let body = |s: &mut u64| Body {
+            shape: if next(s) < 0.5 {
+                Shape::Ball {
+                    radius: 0.05 + next(s),
+                }
+            } else {
+                let half = next_vec(s) * 0.5 + Vec3::splat(0.05);
+                ConvexShape::cuboid(half).unwrap().into_shape()
+            },
+            plan: FlightPlan::accelerated(
+                next_vec(s) * 4.0,
+                next_vec(s) - Vec3::splat(0.5),
+                (next_vec(s) - Vec3::splat(0.5)) * 0.4,
+            ),
+        };
+        let (mut s, mut apart) = (11, 0);
+        for _ in 0..2000 {
+            let (a, b) = (body(&mut s), body(&mut s));
+            let until = proxies_apart_until(&a, &b, 0.0, 0.1);
+            if until == Real::NEG_INFINITY {
+                continue;
+            }
+            apart += 1;
+            assert!(until >= 0.1, "{until}");
+            for k in 0..100 {
+                let t = until.min(100.0) * k as Real / 100.0;
+                assert!(
+                    !proxies_meet(&a, &b, t, t),
+                    "{a:?} {b:?} meet at {t} < {until}"
+                );
+            }
+        }
+        assert!(apart > 500, "{apart} pairs apart");
     }
 
     #[test]
@@ -596,7 +653,7 @@ mod tests {
     /// A resting slab 20 wide and 1 thick, its top at 0 (a ground).
     fn slab() -> Body {
         Body {
-            shape: kinetic_flight::ConvexShape::cuboid(Vec3::new(10.0, 0.5, 10.0))
+            shape: ConvexShape::cuboid(Vec3::new(10.0, 0.5, 10.0))
                 .unwrap()
                 .into_shape(),
             plan: FlightPlan::at_rest(Vec3::new(0.0, -0.5, 0.0)),

@@ -35,6 +35,9 @@ const SMALL: f32 = 2.0;
 const INNER_SMALL: f32 = 8.0;
 /// A wide box looks up at most this many cells; a wider one is tested against every box.
 const WIDE_CELLS: i64 = 4096;
+/// ... and at most this many cells a filed box: in a small world a ground or a wall spans
+/// more cells than there are boxes, and testing each box costs less than looking up each cell.
+const CELLS_A_BOX: i64 = 2;
 /// The cells are not hashed while there are at most this many a box (a table of every
 /// cell, whose neighbours lie next to each other in memory).
 const DENSE_CELLS: i64 = 32;
@@ -231,7 +234,7 @@ impl SteppedGrid {
                 }
             }
         };
-        if cells > WIDE_CELLS {
+        if cells > WIDE_CELLS.min(CELLS_A_BOX * self.sorted.len() as i64) {
             test(&self.sorted);
             return;
         }
@@ -499,6 +502,7 @@ impl SteppedGrid {
         self.inv = 1.0 / (self.widest as f64 * 1.001);
     }
 }
+
 /// `(a, b)` with the lower first.
 fn ordered(a: u32, b: u32) -> (u32, u32) {
     (a.min(b), a.max(b))

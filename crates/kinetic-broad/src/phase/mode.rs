@@ -62,7 +62,7 @@ const MOST_CALM_COUNTS: u32 = 16;
 /// ... this many steps.
 const SHORT_STRETCH: u64 = 120;
 /// The typical move of the boxes is taken from at most this many of them.
-const SAMPLE: usize = 256;
+const SAMPLE: usize = 32;
 /// Steps between two switches at least.
 const DWELL: u64 = 8;
 
@@ -528,16 +528,14 @@ fn anchors(boxes: &[Option<(Aabb, Vec3)>]) -> Real {
 /// The median move of the boxes `boxes` over the step, axis by axis, from at most
 /// [`SAMPLE`] of them evenly spaced by index.
 fn typical_move(boxes: &[Option<(Aabb, Vec3)>], sample: &mut Vec<Real>) -> Vec3 {
-    let moves: Vec<Vec3> = {
-        let every = boxes.len().div_ceil(SAMPLE).max(1);
-        boxes.iter().step_by(every).flatten().map(|b| b.1).collect()
-    };
-    if moves.is_empty() {
+    let every = boxes.len().div_ceil(SAMPLE).max(1);
+    let moves = || boxes.iter().step_by(every).flatten().map(|b| b.1);
+    if moves().next().is_none() {
         return Vec3::ZERO;
     }
     let mut axis = |k: usize| {
         sample.clear();
-        sample.extend(moves.iter().map(|d| d[k]).filter(|x| x.is_finite()));
+        sample.extend(moves().map(|d| d[k]).filter(|x| x.is_finite()));
         if sample.is_empty() {
             return 0.0;
         }
