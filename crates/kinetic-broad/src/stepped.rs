@@ -279,7 +279,8 @@ impl SteppedGrid {
             self.boxes.push(small(&b));
         }
         self.find(keep, out);
-        out.sort_unstable();
+        // In tuples' order, by one 64-bit key a pair.
+        out.sort_unstable_by_key(|&(a, b)| (u64::from(a) << 32) | u64::from(b));
         out.dedup();
     }
 

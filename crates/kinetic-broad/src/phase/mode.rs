@@ -548,11 +548,15 @@ fn typical_move(boxes: &[Option<(Aabb, Vec3)>], sample: &mut Vec<Real>) -> Vec3 
 /// Whether box `a` moving by `da` and box `b` moving by `db`, both at constant speed over the
 /// step, overlap at some moment of it (touching counts; a little more, for the rounding).
 fn meet_within_step(((alo, ahi), da): (Aabb, Vec3), ((blo, bhi), db): (Aabb, Vec3)) -> bool {
+    // Most candidates overlap as the step starts: no allowance needed.
+    if alo.cmple(bhi).all() && blo.cmple(ahi).all() {
+        return true;
+    }
     let d = da - db;
     // a.lo + d t <= b.hi and b.lo <= a.hi + d t, on each axis.
     let tol = 1e-9 * (alo.abs() + ahi.abs() + blo.abs() + bhi.abs() + d.abs());
     let (upper, lower) = (bhi - alo + tol, blo - ahi - tol);
-    // Most candidates overlap as the step starts: no division.
+    // Overlapping within the allowance as the step starts: no division.
     if upper.cmpge(Vec3::ZERO).all() && lower.cmple(Vec3::ZERO).all() {
         return true;
     }
