@@ -124,7 +124,8 @@ impl FatPairs {
         let frame = if self.ready { self.frame } else { frame };
         let boxes = &Swept { boxes, frame };
         self.calls += 1;
-        let steady = self.ready || self.steady(boxes);
+        // Asked only where the pairs were few: elsewhere fat boxes are not tried.
+        let steady = self.ready || (self.sparse && self.steady(boxes));
         // The moves are compared from call to call only while fat boxes do not hold.
         if !self.ready {
             self.last_moves.clear();

@@ -93,6 +93,9 @@ pub(crate) struct SteppedGrid {
     ids: Vec<u32>,
     /// Scratch for the median.
     widths: Vec<f32>,
+    /// Scratch for sorting the pairs: where each first id's pairs start, and the pairs.
+    pair_starts: Vec<u32>,
+    pair_scratch: Vec<(u32, u32)>,
 }
 
 /// Box `b` rounded outwards to single precision: each end moved out by more than half a
@@ -279,9 +282,48 @@ impl SteppedGrid {
             self.boxes.push(small(&b));
         }
         self.find(keep, out);
-        // In tuples' order, by one 64-bit key a pair.
-        out.sort_unstable_by_key(|&(a, b)| (u64::from(a) << 32) | u64::from(b));
+        self.sort(out);
         out.dedup();
+    }
+
+    /// Sorts `pairs` of this call's ids as tuples sort. Where the pairs are many against the
+    /// ids (a pile, a rain), by a counting sort on the first id and each first id's few
+    /// pairs in place; where they are few (debris), by comparison.
+    fn sort(&mut self, pairs: &mut Vec<(u32, u32)>) {
+        let top = self.ids.iter().max().map_or(0, |&m| m as usize + 1);
+        if pairs.len() < 2 {
+            return;
+        }
+        if pairs.len() * 8 < top {
+            pairs.sort_unstable_by_key(|&(a, b)| (u64::from(a) << 32) | u64::from(b));
+            return;
+        }
+        let starts = &mut self.pair_starts;
+        starts.clear();
+        starts.resize(top + 1, 0);
+        for &(a, _) in pairs.iter() {
+            starts[a as usize + 1] += 1;
+        }
+        let mut sum = 0;
+        for start in starts.iter_mut() {
+            sum += *start;
+            *start = sum;
+        }
+        let sorted = &mut self.pair_scratch;
+        sorted.clear();
+        sorted.resize(pairs.len(), (0, 0));
+        for &p in pairs.iter() {
+            let at = &mut starts[p.0 as usize];
+            sorted[*at as usize] = p;
+            *at += 1;
+        }
+        // `starts[a]` is now where the pairs of `a + 1` start: each run ends there.
+        let mut from = 0;
+        for &end in starts[..top].iter() {
+            sorted[from..end as usize].sort_unstable_by_key(|p| p.1);
+            from = end as usize;
+        }
+        std::mem::swap(pairs, sorted);
     }
 
     /// Pushes onto `out` the pairs of this call's boxes that `keep` keeps, in no order and
