@@ -290,10 +290,10 @@ impl SteppedGrid {
     /// ids (a pile, a rain), by a counting sort on the first id and each first id's few
     /// pairs in place; where they are few (debris), by comparison.
     fn sort(&mut self, pairs: &mut Vec<(u32, u32)>) {
-        let top = self.ids.iter().max().map_or(0, |&m| m as usize + 1);
         if pairs.len() < 2 {
             return;
         }
+        let top = self.ids.iter().max().map_or(0, |&m| m as usize + 1);
         if pairs.len() * 8 < top {
             pairs.sort_unstable_by_key(|&(a, b)| (u64::from(a) << 32) | u64::from(b));
             return;
