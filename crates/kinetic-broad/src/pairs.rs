@@ -332,19 +332,16 @@ fn apart_after(a: &Body, b: &Body, t0: Real, t1: Real) -> Real {
     let gap = match (&a.shape, &b.shape) {
         (Shape::Ball { radius: ra }, Shape::Ball { radius: rb }) => (pa - pb).length() - ra - rb,
         _ => {
-            let ((alo, ahi), (blo, bhi)) = (swept_box(a, t0, t0), swept_box(b, t0, t0));
-            let apart = (blo - ahi).max(alo - bhi).max_element();
-            apart.max((pa - pb).length() - box_reach(a) - box_reach(b))
+            // Each box about its position now, its own box looked up once.
+            let ((alo, ahi), (blo, bhi)) = (a.local_box(), b.local_box());
+            let apart = ((pb + blo) - (pa + ahi)).max((pa + alo) - (pb + bhi));
+            let reach = |lo: Vec3, hi: Vec3| lo.abs().max(hi.abs()).length();
+            let balls = (pa - pb).length() - reach(alo, ahi) - reach(blo, bhi);
+            apart.max_element().max(balls)
         }
     };
     let gap = gap - 2.0 * tolerance(a, b, pa, pb);
     time_to_cover(a, b, t0, gap).map_or(t1, |tau| t1.max(t0 + tau))
-}
-
-/// How far `body`'s box ([`Body::local_box`]) reaches from its centre.
-fn box_reach(body: &Body) -> Real {
-    let (lo, hi) = body.local_box();
-    lo.abs().max(hi.abs()).length()
 }
 
 /// The time before which proxies `a` and `b`, on their plans, cannot meet, looking from `t0`:
