@@ -18,15 +18,15 @@
 //! candidates, 16 to 18).
 //!
 //! Fat boxes pay where they last: debris, a burst flying apart, kinematic bodies on their
-//! paths. In a pile or a gas the pairs are many and bodies are pushed out of their fat
-//! boxes at once: there each step finds the pairs from scratch. Fat boxes are tried only
-//! once the pairs found are at most one for [`SPARSE`] boxes and the boxes move steadily
-//! (bodies falling together would leave them within a few steps). A call's work with fat
-//! boxes is counted against finding its pairs from scratch; fat boxes filed afresh fewer
+//! paths, a small pile once it has settled. In a settling pile or a gas bodies are pushed
+//! out of their fat boxes at once: there each step finds the pairs from scratch. Fat boxes
+//! are tried only once the boxes move steadily (bodies falling together would leave them
+//! within a few steps). A call's work with
+//! fat boxes is counted against finding its pairs from scratch; fat boxes filed afresh fewer
 //! than [`MIN_LIFE`] calls after the last time, or costing more, are tried again only after
 //! [`FIRST_WAIT`] calls, then twice as many each time they fail, up to [`LAST_WAIT`].
 
-use crate::stepped::{Aabb, SteppedGrid, overlapping};
+use crate::stepped::{Aabb, Small, SteppedGrid, overlap, overlapping, small};
 use kinetic_core::{Real, Vec3};
 
 /// A fat box covers at least this many steps of its box's move...
@@ -40,10 +40,6 @@ const MARGIN: Real = 0.1;
 const FILING_TESTS: Real = 6.0;
 /// All fat boxes are filed afresh once more than one box in this many has been re-fattened.
 const MOVED_SHARE: usize = 16;
-/// Fat boxes are tried only where the pairs found from scratch were at most one for this
-/// many boxes: a world flying apart, not a pile or a gas, where fat boxes would hold many
-/// more pairs and last no time.
-const SPARSE: usize = 4;
 /// The work of a call, in boxes filed in the grid: a box checked against its fat box...
 const CHECK_WORK: Real = 0.25;
 /// ... a pair of boxes tested...
@@ -82,8 +78,6 @@ pub(crate) struct FatPairs {
     /// Calls before which the pairs are found from scratch, and how long the last wait was.
     plain_until: u64,
     wait: u64,
-    /// Whether the last pairs found from scratch were few enough to try fat boxes.
-    sparse: bool,
     /// Per index, the box's move at the last call.
     last_moves: Vec<Option<Vec3>>,
     /// The work of a call with fat boxes, and of one finding the pairs from scratch,
@@ -102,6 +96,8 @@ pub(crate) struct FatPairs {
     gained: Vec<(u32, u32)>,
     found: Vec<u32>,
     merged: Vec<(u32, u32)>,
+    /// Scratch: each box swept and rounded as the grid tests a pair.
+    rounded: Vec<Option<Small>>,
     /// How many times the fat boxes were filed afresh, boxes re-fattened on their own, and
     /// calls.
     pub(crate) rebuilds: u64,
@@ -124,15 +120,9 @@ impl FatPairs {
         let frame = if self.ready { self.frame } else { frame };
         let boxes = &Swept { boxes, frame };
         self.calls += 1;
-        // Asked only where the pairs were few: elsewhere fat boxes are not tried.
-        let steady = self.ready || (self.sparse && self.steady(boxes));
         // The moves are compared from call to call only while fat boxes do not hold.
-        if !self.ready {
-            self.last_moves.clear();
-            self.last_moves
-                .extend(boxes.boxes.iter().map(|b| b.map(|b| b.1)));
-        }
-        if self.calls < self.plain_until || (!self.ready && !(self.sparse && steady)) {
+        let steady = self.ready || self.steady(boxes);
+        if self.calls < self.plain_until || !steady {
             self.plain(boxes, keep, out);
             return;
         }
@@ -156,12 +146,28 @@ impl FatPairs {
             work += boxes.len() as Real + self.candidates.len() as Real * TEST_WORK;
         }
         out.clear();
-        for &(a, b) in &self.candidates {
-            if let (Some(x), Some(y)) = (boxes.get(a), boxes.get(b))
-                && overlapping(&x.0, &y.0)
-                && keep(a, b)
-            {
-                out.push((a, b));
+        if self.candidates.len() * 2 >= boxes.len() {
+            // Candidates many against the boxes (a pile): each box rounded once, not once a
+            // candidate.
+            self.rounded.clear();
+            self.rounded
+                .extend(boxes.iter().map(|b| b.map(|b| small(&b.0))));
+            for &(a, b) in &self.candidates {
+                if let (Some(x), Some(y)) = (&self.rounded[a as usize], &self.rounded[b as usize])
+                    && overlap(x, y)
+                    && keep(a, b)
+                {
+                    out.push((a, b));
+                }
+            }
+        } else {
+            for &(a, b) in &self.candidates {
+                if let (Some(x), Some(y)) = (boxes.get(a), boxes.get(b))
+                    && overlapping(&x.0, &y.0)
+                    && keep(a, b)
+                {
+                    out.push((a, b));
+                }
             }
         }
         // What the call took, against what finding its pairs from scratch would have.
@@ -190,24 +196,27 @@ impl FatPairs {
     /// Whether the boxes move steadily enough for fat boxes: no more than one in
     /// [`MOVED_SHARE`] changed its move since the last call by enough to leave its fat box
     /// within [`AHEAD`] steps at that rate (bodies falling together, a pile settling, do).
-    fn steady(&self, boxes: &Swept) -> bool {
-        if self.last_moves.len() != boxes.len() {
-            return false;
+    /// Keeps each box's move for the next call, in the same pass.
+    fn steady(&mut self, boxes: &Swept) -> bool {
+        let compared = self.last_moves.len() == boxes.len();
+        if !compared {
+            self.last_moves.clear();
+            self.last_moves.resize(boxes.len(), None);
         }
         let reach = AHEAD * AHEAD / 2.0;
-        let unsteady = boxes
-            .iter()
-            .zip(&self.last_moves)
-            .filter(|(b, d0)| match (b, d0) {
-                (Some(((lo, hi), d)), Some(d0)) => {
-                    (*d - *d0).length() * reach > MARGIN * (*hi - *lo).max_element()
-                }
-                _ => false,
-            });
-        unsteady.count() * MOVED_SHARE <= boxes.len()
+        let mut unsteady = 0;
+        for (b, last) in boxes.boxes.iter().zip(&mut self.last_moves) {
+            if let (Some(((lo, hi), d)), Some(d0)) = (b, *last) {
+                // The swept box's width.
+                let width = (*hi - *lo + (*d - boxes.frame).abs()).max_element();
+                unsteady += usize::from((*d - d0).length() * reach > MARGIN * width);
+            }
+            *last = b.map(|b| b.1);
+        }
+        compared && unsteady * MOVED_SHARE <= boxes.len()
     }
 
-    /// The pairs found from scratch (and whether they are few): fat boxes no longer hold.
+    /// The pairs found from scratch: fat boxes no longer hold.
     fn plain(&mut self, boxes: &Swept, keep: &dyn Fn(u32, u32) -> bool, out: &mut Vec<(u32, u32)>) {
         if self.ready {
             self.ready = false;
@@ -216,7 +225,6 @@ impl FatPairs {
         let items = boxes.iter().enumerate();
         let items = items.filter_map(|(i, b)| Some((i as u32, b?.0)));
         self.grid.pairs(items, keep, out);
-        self.sparse = SPARSE * out.len() <= boxes.len();
     }
 
     /// Every box given a fat box, filed afresh, and the pairs of fat boxes found.

@@ -53,7 +53,7 @@ pub(crate) type Aabb = (Vec3, Vec3);
 
 /// A box rounded outwards to single precision, `[min, max]`, in 16-byte vectors that one
 /// instruction compares.
-type Small = [Vec3A; 2];
+pub(crate) type Small = [Vec3A; 2];
 
 /// The grid's reused buffers.
 #[derive(Clone, Debug, Default)]
@@ -100,7 +100,7 @@ pub(crate) struct SteppedGrid {
 
 /// Box `b` rounded outwards to single precision: each end moved out by more than half a
 /// single-precision step before it is rounded to the nearest.
-fn small(b: &Aabb) -> Small {
+pub(crate) fn small(b: &Aabb) -> Small {
     let out = |x: Vec3| x.abs() * (f32::EPSILON as Real) + f32::MIN_POSITIVE as Real;
     let (lo, hi) = (b.0 - out(b.0), b.1 + out(b.1));
     [
@@ -119,7 +119,7 @@ fn width(b: &Small) -> f32 {
 }
 
 /// Whether two boxes overlap (touching counts).
-fn overlap(a: &Small, b: &Small) -> bool {
+pub(crate) fn overlap(a: &Small, b: &Small) -> bool {
     a[0].cmple(b[1]).all() & b[0].cmple(a[1]).all()
 }
 
