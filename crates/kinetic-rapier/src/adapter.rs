@@ -53,6 +53,16 @@ fn dpoint(p: &Point<RReal>) -> Vec3 {
     Vec3::new(p.x as Real, p.y as Real, p.z as Real)
 }
 
+/// Converts a rapier point just written to memory by code that is not inlined (parry's
+/// shapes, called through a trait object), one coordinate at a time: a load of two
+/// coordinates at once cannot take them from two separate stores still in flight and waits
+/// for both to reach the cache (about a tenth of a debris body's time in the broad phase).
+fn just_stored(p: &Point<RReal>) -> Vec3 {
+    // Each coordinate's address passes through `black_box`, so each is loaded on its own.
+    let read = |x: &RReal| *std::hint::black_box(x) as Real;
+    Vec3::new(read(&p.x), read(&p.y), read(&p.z))
+}
+
 /// A rigid body's centre of mass in world space, from its current pose (rapier refreshes its
 /// own world centre of mass only at the end of a step, after the broad phase has run).
 fn centre_of_mass(rb: &RigidBody) -> Vec3 {
@@ -122,7 +132,7 @@ impl Engine for Rapier<'_> {
         let aabb = co.compute_aabb();
         let margin = margin_of(co, self.params);
         let m = Vec3::splat(margin);
-        Some((dpoint(&aabb.mins) - m, dpoint(&aabb.maxs) + m))
+        Some((just_stored(&aabb.mins) - m, just_stored(&aabb.maxs) + m))
     }
 
     fn motion(&self, b: Key) -> Option<(Vec3, Vec3)> {

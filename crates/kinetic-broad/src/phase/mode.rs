@@ -181,6 +181,7 @@ impl Stepped {
     /// Collider `i` moved to box `b` (`None`: the engine gives none): how far it moves over
     /// the coming step is taken from how far it moved over the last two, as a semi-implicit
     /// Euler step under a steady acceleration does (`2 d1 - d0`).
+    #[inline(always)]
     pub(super) fn track(&mut self, i: u32, b: Option<Aabb>) {
         let i = i as usize;
         if self.boxes.len() <= i {
