@@ -120,11 +120,8 @@ impl FatPairs {
         let frame = if self.ready { self.frame } else { frame };
         let boxes = &Swept { boxes, frame };
         self.calls += 1;
-        // The moves are compared from call to call only while fat boxes do not hold. The
-        // first call has no moves to compare: fat boxes are given the benefit of the doubt
-        // (filed at once instead of after a search from scratch; a world that does not
-        // keep them goes from scratch after a few calls).
-        let steady = self.ready || self.steady(boxes) || self.calls == 1;
+        // The moves are compared from call to call only while fat boxes do not hold.
+        let steady = self.ready || self.steady(boxes);
         if self.calls < self.plain_until || !steady {
             self.plain(boxes, keep, out);
             return;
@@ -136,12 +133,9 @@ impl FatPairs {
         if !kept {
             let pays = self.work <= self.plain_work;
             if self.ready && (self.calls - self.built < MIN_LIFE || !pays) {
-                // They did not last: from scratch for a while (or until the boxes move
-                // steadily, where they were the first call's).
-                if self.built != 1 {
-                    self.wait = (2 * self.wait).clamp(FIRST_WAIT, LAST_WAIT);
-                    self.plain_until = self.calls + self.wait;
-                }
+                // They did not last: from scratch for a while.
+                self.wait = (2 * self.wait).clamp(FIRST_WAIT, LAST_WAIT);
+                self.plain_until = self.calls + self.wait;
                 self.plain(boxes, keep, out);
                 return;
             }
