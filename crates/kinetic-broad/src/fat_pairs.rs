@@ -21,10 +21,10 @@
 //! paths, a small pile once it has settled. In a settling pile or a gas bodies are pushed
 //! out of their fat boxes at once: there each step finds the pairs from scratch. Fat boxes
 //! are tried only once the boxes move steadily (bodies falling together would leave them
-//! within a few steps). A call's work with
-//! fat boxes is counted against finding its pairs from scratch; fat boxes filed afresh fewer
-//! than [`MIN_LIFE`] calls after the last time, or costing more, are tried again only after
-//! [`FIRST_WAIT`] calls, then twice as many each time they fail, up to [`LAST_WAIT`].
+//! within a few steps). A call's work with fat boxes is counted against finding its pairs
+//! from scratch; fat boxes filed afresh fewer than [`MIN_LIFE`] calls after the last time,
+//! or costing more, are tried again only after [`FIRST_WAIT`] calls, then twice as many each
+//! time they fail, up to [`LAST_WAIT`].
 
 use crate::stepped::{Aabb, Small, SteppedGrid, overlap, overlapping, small};
 use kinetic_core::{Real, Vec3};
@@ -555,6 +555,43 @@ mod tests {
             kept.ahead > AHEAD && kept.ahead <= MOST_AHEAD,
             "fat boxes cover {} steps",
             kept.ahead
+        );
+    }
+
+    /// A settled heap: boxes packed side by side, each trembling about its place. Fat boxes
+    /// hold its pairs, with candidates at least half as many as the boxes (each box rounded
+    /// once a call), and the kept pairs are the grid's own every call.
+    #[test]
+    fn a_settled_heap_is_held_by_fat_boxes_with_many_candidates() {
+        let mut s = 11;
+        let side = 8;
+        let n = side * side * side;
+        let place = |k: usize| {
+            Vec3::new(
+                (k % side) as Real,
+                (k / side % side) as Real,
+                (k / (side * side)) as Real,
+            )
+        };
+        let mut last: Vec<Vec3> = (0..n).map(place).collect();
+        let (kept, met) = run_calls(200, |_| {
+            (0..n)
+                .map(|k| {
+                    let at = place(k) + (next_vec(&mut s) - 0.5) * 1e-4;
+                    let d = at - last[k];
+                    last[k] = at;
+                    let h = Vec3::splat(0.5);
+                    Some(((at - h, at + h), d))
+                })
+                .collect()
+        });
+        assert!(met > 0, "no pairs to find");
+        assert!(kept.rebuilds >= 1, "fat boxes never filed");
+        assert!(
+            kept.ready && kept.candidates.len() * 2 >= n,
+            "{} candidates for {n} boxes, held: {}",
+            kept.candidates.len(),
+            kept.ready
         );
     }
 }
