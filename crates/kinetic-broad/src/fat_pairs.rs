@@ -148,7 +148,8 @@ impl FatPairs {
         out.clear();
         if self.candidates.len() * 2 >= boxes.len() {
             // Candidates many against the boxes (a pile): each box rounded once, not once a
-            // candidate.
+            // candidate. Two loops rather than one choosing per candidate: that one cost
+            // kinematic bodies at 1e3 a tenth more.
             self.rounded.clear();
             self.rounded
                 .extend(boxes.iter().map(|b| b.map(|b| small(&b.0))));
