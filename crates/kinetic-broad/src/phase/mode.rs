@@ -64,6 +64,9 @@ const MOST_CALM_COUNTS: u32 = 16;
 const SHORT_STRETCH: u64 = 120;
 /// The typical move of the boxes is taken from at most this many of them.
 const SAMPLE: usize = 32;
+/// The typical move is taken again on one position update in this many (it changes
+/// little from step to step, and any frame that moves steadily sweeps the boxes right).
+const TYPICAL_EVERY: u64 = 4;
 /// Steps between two switches at least.
 const DWELL: u64 = 8;
 
@@ -87,7 +90,9 @@ pub(super) struct Stepped {
     /// without a history), or (`all`) every collider.
     pub(super) pending: Vec<u32>,
     all: bool,
-    /// Scratch for the typical move.
+    /// The typical move of the boxes, taken again on one update in [`TYPICAL_EVERY`], and
+    /// scratch for it.
+    typical: Vec3,
     sample: Vec<Real>,
     /// The colliders moved in this position update, a bit per index.
     marked: Vec<u64>,
@@ -452,7 +457,12 @@ impl BroadPhaseCore {
         // or while fat boxes hold the pairs, the one they were filed in.
         let frame = match st.grid.frame() {
             Some(frame) => frame,
-            None => typical_move(&st.boxes, &mut st.sample),
+            None => {
+                if st.updates % TYPICAL_EVERY == 0 {
+                    st.typical = typical_move(&st.boxes, &mut st.sample);
+                }
+                st.typical
+            }
         };
         let boxes = &st.boxes;
         let keep = |a: u32, b: u32| match (boxes[a as usize], boxes[b as usize]) {
