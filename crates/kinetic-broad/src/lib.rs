@@ -31,6 +31,7 @@ mod motions;
 mod pairs;
 mod phase;
 mod stepped;
+mod sweep;
 
 pub use engine::{BodyState, Engine, Key, PairEvent, Seen, Step};
 pub use hold::{Hold, Slack, fit};

@@ -25,6 +25,7 @@
 //! ones are tested against each other. Cells that hash alike cost only tests: pairs found
 //! twice are deduplicated. Nothing is allocated once the buffers have grown.
 
+use crate::sweep::Sweep;
 use glam::Vec3A;
 use kinetic_core::{Real, Vec3, floor_int};
 
@@ -47,6 +48,17 @@ const INNER_FROM: usize = 32;
 const MEDIAN_EVERY: u32 = 16;
 /// A hashed table has about this many slots a box (a box is filed in up to eight cells).
 const HASHED_SLOTS: usize = 4;
+/// At most this many boxes are always sorted and swept ([`Sweep`]) rather than filed...
+const SWEEP_ALWAYS: usize = 256;
+/// ... up to this many while the sweep tests at most [`SWEEP_TESTS`] pairs a box (more, and
+/// sorting costs more than filing: a rain of 1e4 bodies, debris of 1e4, a fifth more)...
+const SWEEP_MOST: usize = 2048;
+/// ... (debris: 3 a box; a pile, a rain or a gas of 400 bodies: 20 to 32, where the sweep
+/// costs about what the grid does; of 1e3: 50 to 70, where a pile's sweep costs a fifth
+/// more)...
+const SWEEP_TESTS: usize = 16;
+/// ... and it is tried again this many calls after it tested more.
+const SWEEP_AGAIN: u32 = 64;
 
 /// An axis-aligned box `(min, max)`.
 pub(crate) type Aabb = (Vec3, Vec3);
@@ -96,6 +108,13 @@ pub(crate) struct SteppedGrid {
     /// Scratch for sorting the pairs: where each first id's pairs start, and the pairs.
     pair_starts: Vec<u32>,
     pair_scratch: Vec<(u32, u32)>,
+    /// The sort and sweep, whether it gave this call's pairs, and the calls before it is
+    /// tried again.
+    sweep: Sweep,
+    swept: bool,
+    sweep_wait: u32,
+    /// Never swept (the tests of the grid itself).
+    no_sweep: bool,
 }
 
 /// Box `b` rounded outwards to single precision: each end moved out by more than half a
@@ -189,6 +208,11 @@ impl SteppedGrid {
     /// come more than once): the small boxes filed in the cells `q` reaches, and the wide
     /// ones from their own grid when they have one.
     fn query(&self, q: &Small, hit: &mut dyn FnMut(u32)) {
+        if self.swept {
+            self.sweep
+                .query(&self.boxes, q, |j| hit(self.ids[j as usize]));
+            return;
+        }
         if !self.built {
             for (b, id) in self.boxes.iter().zip(&self.ids) {
                 if overlap(q, b) {
@@ -331,8 +355,34 @@ impl SteppedGrid {
     fn find(&mut self, keep: &dyn Fn(u32, u32) -> bool, out: &mut Vec<(u32, u32)>) {
         self.built = false;
         self.nesting = false;
-        if self.boxes.len() < 2 {
+        self.swept = false;
+        let n = self.boxes.len();
+        if n < 2 {
             return;
+        }
+        // A few boxes, or boxes that overlap few others along some axis (debris): sorted and
+        // swept, while it takes few tests a box; otherwise filed (and swept again now and
+        // then). Pairs a sweep gave up on come again from the grid, and go with the
+        // duplicates.
+        // (Not the grid of another's wide boxes: the smaller boxes look it up far more than
+        // it finds pairs of its own, and a look-up in the sweep costs more.)
+        let few = n <= SWEEP_ALWAYS || (n <= SWEEP_MOST && self.sweep_wait == 0);
+        if few && !self.no_sweep && !self.nested_in {
+            let budget = if n <= SWEEP_ALWAYS {
+                usize::MAX
+            } else {
+                SWEEP_TESTS * n
+            };
+            let ids = &self.ids;
+            self.swept = self.sweep.pairs(&self.boxes, budget, |i, j| {
+                push(out, keep, ids[i as usize], ids[j as usize]);
+            });
+            if self.swept {
+                return;
+            }
+            self.sweep_wait = SWEEP_AGAIN;
+        } else {
+            self.sweep_wait = self.sweep_wait.saturating_sub(1);
         }
         self.choose_cell();
         // Small boxes and their slots; the others are wide (a NaN box too: it meets none).
@@ -470,6 +520,7 @@ impl SteppedGrid {
         if self.wide.len() > INNER_FROM {
             let mut inner = self.inner.take().unwrap_or_default();
             inner.nested_in = true;
+            inner.no_sweep = self.no_sweep;
             inner.boxes.clear();
             inner.ids.clear();
             for &w in &self.wide {
@@ -560,203 +611,4 @@ fn push(out: &mut Vec<(u32, u32)>, keep: &dyn Fn(u32, u32) -> bool, a: u32, b: u
 }
 
 #[cfg(test)]
-pub(crate) mod tests {
-    use super::*;
-
-    /// A small deterministic generator.
-    pub(crate) fn next(s: &mut u64) -> Real {
-        *s = s
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (*s >> 11) as Real / (1u64 << 53) as Real
-    }
-
-    /// A point of the unit cube from the same generator.
-    pub(crate) fn next_vec(s: &mut u64) -> Vec3 {
-        Vec3::new(next(s), next(s), next(s))
-    }
-
-    /// The grid's pairs against every pair tested.
-    fn check(grid: &mut SteppedGrid, items: &[(u32, Aabb)], what: &str) {
-        let mut out = Vec::new();
-        grid.pairs(items.iter().copied(), &|_, _| true, &mut out);
-        let mut want = Vec::new();
-        for (k, a) in items.iter().enumerate() {
-            for b in &items[k + 1..] {
-                if a.1.0.cmple(b.1.1).all() && b.1.0.cmple(a.1.1).all() {
-                    want.push(ordered(a.0, b.0));
-                }
-            }
-        }
-        want.sort_unstable();
-        assert!(!want.is_empty(), "{what}: no pairs to find");
-        let missing: Vec<_> = want
-            .iter()
-            .filter(|p| out.binary_search(p).is_err())
-            .collect();
-        // Boxes are rounded outwards to single precision: a pair apart by less than that
-        // may be given too.
-        let near = |a: u32, b: u32| {
-            let find = |id: u32| items.iter().find(|(i, _)| *i == id).expect("an item").1;
-            let (a, b) = (find(a), find(b));
-            let grow = |x: Aabb| {
-                let out = (x.0.abs() + x.1.abs()) * (2.0 * f32::EPSILON as Real);
-                (x.0 - out, x.1 + out)
-            };
-            let (a, b) = (grow(a), grow(b));
-            a.0.cmple(b.1).all() && b.0.cmple(a.1).all()
-        };
-        let extra: Vec<_> = out
-            .iter()
-            .filter(|p| want.binary_search(p).is_err() && !near(p.0, p.1))
-            .collect();
-        assert!(
-            missing.is_empty() && extra.is_empty(),
-            "{what}: missing {missing:?}, extra {extra:?}"
-        );
-    }
-
-    #[test]
-    fn scattered_boxes_with_a_few_wide_ones_give_exactly_the_overlapping_pairs() {
-        let mut s = 7;
-        let mut grid = SteppedGrid::default();
-        for round in 0..4 {
-            let mut items = Vec::new();
-            for id in 0..400u32 {
-                let c = next_vec(&mut s) * 20.0;
-                // Mostly small boxes, a few wide ones (a ground) and one with a NaN.
-                let h = if id % 97 == 0 {
-                    Vec3::new(15.0, 0.5, 15.0)
-                } else {
-                    Vec3::splat(0.2 + next(&mut s) * (round as Real + 1.0))
-                };
-                let b = if id == 5 && round == 2 {
-                    (Vec3::NAN, Vec3::NAN)
-                } else {
-                    (c - h, c + h)
-                };
-                items.push((id * 3 + round, b));
-            }
-            check(&mut grid, &items, &format!("round {round}"));
-        }
-    }
-
-    /// Clusters of boxes scattered over a space far wider than they fill: the cells are
-    /// hashed, each box is filed in every cell it overlaps, and boxes that overlap across
-    /// cell lines are found once each.
-    #[test]
-    fn clusters_far_apart_in_hashed_cells_give_exactly_the_overlapping_pairs() {
-        let mut s = 13;
-        let mut grid = SteppedGrid::default();
-        for round in 0..4 {
-            let mut items = Vec::new();
-            let mut centre = Vec3::ZERO;
-            for id in 0..600u32 {
-                if id % 6 == 0 {
-                    centre = next_vec(&mut s) * 5000.0;
-                }
-                let c = centre + next_vec(&mut s) * 2.0;
-                // Mostly small boxes, a few wide ones and one with a NaN.
-                let h = if id % 151 == 0 {
-                    Vec3::new(40.0, 0.5, 40.0)
-                } else {
-                    Vec3::splat(0.3 + next(&mut s) * 0.5)
-                };
-                let b = if id == 7 && round == 1 {
-                    (Vec3::NAN, Vec3::NAN)
-                } else {
-                    (c - h, c + h)
-                };
-                items.push((id * 5 + round, b));
-            }
-            check(&mut grid, &items, &format!("round {round}"));
-            assert!(
-                grid.dense.is_none(),
-                "round {round}: the cells were not hashed"
-            );
-        }
-    }
-
-    #[test]
-    fn a_dense_pile_with_a_spread_of_wide_boxes_gives_exactly_the_overlapping_pairs() {
-        let mut s = 11;
-        let mut grid = SteppedGrid::default();
-        for round in 0..3 {
-            let mut items = Vec::new();
-            // A lattice of boxes that touch their neighbours, jittered.
-            for k in 0..1000u32 {
-                let (x, y, z) = (k % 10, (k / 10) % 10, k / 100);
-                let c = Vec3::new(x as Real, y as Real, z as Real) * 0.5 + next_vec(&mut s) * 0.05;
-                let h = next_vec(&mut s) * 0.05 + 0.2;
-                items.push((k, (c - h, c + h)));
-            }
-            // Wide boxes of many sizes, more than make a grid of their own.
-            for k in 0..60u32 {
-                let c = next_vec(&mut s) * 5.0;
-                let h = Vec3::splat(0.6 * (1.0 + 8.0 * next(&mut s)));
-                items.push((2000 + k, (c - h, c + h)));
-            }
-            // A ground, and (once) a box with NaN sides.
-            items.push((
-                5000,
-                (Vec3::new(-50.0, -1.0, -50.0), Vec3::new(50.0, 0.1, 50.0)),
-            ));
-            if round == 1 {
-                items.push((5001, (Vec3::NAN, Vec3::ONE)));
-            }
-            check(&mut grid, &items, &format!("round {round}"));
-        }
-    }
-
-    /// Debris whose sizes span three orders: the wide boxes make grids of their own, one in
-    /// another, and both the pairs and a box's look-up find exactly the overlapping boxes.
-    #[test]
-    fn sizes_spread_over_three_orders_nest_grids_and_give_exactly_the_overlapping_pairs() {
-        let mut s = 17;
-        let mut grid = SteppedGrid::default();
-        let mut items = Vec::new();
-        for round in 0..3u32 {
-            items.clear();
-            for id in 0..3000u32 {
-                // The number of boxes of radius at least r falls as 1 / r, from 0.01 to 10.
-                let r = 1.0 / (100.0 - next(&mut s) * 99.9);
-                let c = next_vec(&mut s) * 60.0;
-                let h = Vec3::new(1.0, 0.5 + next(&mut s), 1.0) * r;
-                items.push((id * 3 + round, (c - h, c + h)));
-            }
-            check(&mut grid, &items, &format!("round {round}"));
-            let mut depth = 0;
-            let mut g = &grid;
-            while let Some(inner) = g.nested() {
-                depth += 1;
-                g = inner;
-            }
-            assert!(depth >= 2, "round {round}: {depth} nested grids");
-            for k in 0..200 {
-                let (_, q) = items[(k * 13) % items.len()];
-                let q = (q.0 - Vec3::splat(0.05), q.1 + Vec3::splat(0.05));
-                let mut got = Vec::new();
-                grid.overlapping_with(&q, &mut got);
-                got.sort_unstable();
-                got.dedup();
-                let want: Vec<u32> = items
-                    .iter()
-                    .filter(|(_, b)| overlapping(&q, b))
-                    .map(|(id, _)| *id)
-                    .collect::<std::collections::BTreeSet<_>>()
-                    .into_iter()
-                    .collect();
-                assert_eq!(got, want, "round {round}: look-up {k}");
-            }
-        }
-    }
-
-    #[test]
-    fn boxes_that_are_all_nan_or_wide_do_not_recurse_for_ever() {
-        let mut grid = SteppedGrid::default();
-        let mut items: Vec<(u32, Aabb)> = (0..40).map(|k| (k, (Vec3::NAN, Vec3::NAN))).collect();
-        items.push((100, (Vec3::ZERO, Vec3::ONE)));
-        items.push((101, (Vec3::splat(0.5), Vec3::splat(2.0))));
-        check(&mut grid, &items, "NaN boxes");
-    }
-}
+pub(crate) mod tests;

@@ -458,7 +458,7 @@ impl BroadPhaseCore {
         let frame = match st.grid.frame() {
             Some(frame) => frame,
             None => {
-                if st.updates % TYPICAL_EVERY == 0 {
+                if st.updates.is_multiple_of(TYPICAL_EVERY) {
                     st.typical = typical_move(&st.boxes, &mut st.sample);
                 }
                 st.typical
