@@ -24,6 +24,10 @@
 //! wide for [`WIDE_CELLS`] cells (a ground, a wall) is tested against every box; the wide
 //! ones are tested against each other. Cells that hash alike cost only tests: pairs found
 //! twice are deduplicated. Nothing is allocated once the buffers have grown.
+//!
+//! A few boxes, or boxes that overlap few others along some axis (debris), are sorted and
+//! swept instead ([`crate::sweep`]): below a few hundred boxes a grid's fixed costs outweigh
+//! its few tests.
 
 use crate::sweep::Sweep;
 use glam::Vec3A;
@@ -50,8 +54,9 @@ const MEDIAN_EVERY: u32 = 16;
 const HASHED_SLOTS: usize = 4;
 /// At most this many boxes are always sorted and swept ([`Sweep`]) rather than filed...
 const SWEEP_ALWAYS: usize = 256;
-/// ... up to this many while the sweep tests at most [`SWEEP_TESTS`] pairs a box (more, and
-/// sorting costs more than filing: a rain of 1e4 bodies, debris of 1e4, a fifth more)...
+/// ... up to this many while the sweep tests at most [`SWEEP_TESTS`] pairs a box (without
+/// this bound worlds of 1e4 bodies were within noise, and a sweep that gives up has sorted
+/// every box first)...
 const SWEEP_MOST: usize = 2048;
 /// ... (debris: 3 a box; a pile, a rain or a gas of 400 bodies: 20 to 32, where the sweep
 /// costs about what the grid does; of 1e3: 50 to 70, where a pile's sweep costs a fifth
@@ -363,9 +368,9 @@ impl SteppedGrid {
         // A few boxes, or boxes that overlap few others along some axis (debris): sorted and
         // swept, while it takes few tests a box; otherwise filed (and swept again now and
         // then). Pairs a sweep gave up on come again from the grid, and go with the
-        // duplicates.
-        // (Not the grid of another's wide boxes: the smaller boxes look it up far more than
-        // it finds pairs of its own, and a look-up in the sweep costs more.)
+        // duplicates. Not the grid of another's wide boxes: the smaller boxes look it up far
+        // more than it finds pairs of its own, and a look-up in the sweep costs more (a rain
+        // of 1e4 bodies a fifth more).
         let few = n <= SWEEP_ALWAYS || (n <= SWEEP_MOST && self.sweep_wait == 0);
         if few && !self.no_sweep && !self.nested_in {
             let budget = if n <= SWEEP_ALWAYS {
