@@ -36,13 +36,17 @@ impl Sweep {
         let n = boxes.len();
         let axis = spread_axis(boxes);
         self.axis = axis;
+        // The lower ends and the longest box (NaN lengths left out), in one pass.
         self.lows.clear();
-        self.lows.extend(boxes.iter().map(|b| low(b, axis)));
-        self.longest = boxes
-            .iter()
-            .map(|b| b[1][axis] - b[0][axis])
-            .filter(|w| !w.is_nan())
-            .fold(0.0, f32::max);
+        let mut longest = 0.0f32;
+        for b in boxes {
+            self.lows.push(low(b, axis));
+            let length = b[1][axis] - b[0][axis];
+            if length > longest {
+                longest = length;
+            }
+        }
+        self.longest = longest;
         let lows = &self.lows;
         let key = |i: u32| lows[i as usize];
         // The last order, unless the boxes are not as many (then sorted afresh), or it takes
