@@ -11,12 +11,13 @@
 //!   must be at least three list reaches wide, so a sphere meets at most one image of another.
 //!   A sphere's plan is the world's; when a collision gives it a new plan whose start lies
 //!   outside the box, the start is wrapped into it (a whole number of periods).
-//! - **Neighbour lists with a shell.** Each sphere has a list centre (its position when the
-//!   list was made) and lists the spheres whose centres were within `s (r_a + r_b)` of it,
-//!   with a shell factor `s` chosen from the packing so that a sphere lists about 16 others.
-//!   While each sphere stays within `(s - 1) r` of its centre, an unlisted pair cannot
-//!   touch; a sphere that reaches its shell re-centres and lists again from a cell grid of
-//!   centres. Lists are symmetric: re-listing one sphere updates its neighbours' lists.
+//! - **Neighbour lists with a shell.** Each sphere has a list centre (a point within its
+//!   shell when the list was made) and lists the spheres whose centres were within
+//!   `s (r_a + r_b)` of it, with a shell factor `s` chosen from the packing so that a sphere
+//!   lists about 16 others. While each sphere stays within `(s - 1) r` of its centre, an
+//!   unlisted pair cannot touch; a sphere that reaches its shell re-centres (a mean free
+//!   path ahead along its flight) and lists again from a cell grid of centres. Lists are
+//!   symmetric: re-listing one sphere updates its neighbours' lists.
 //! - **One event per sphere**, the earliest of its shell crossing and its listed pairs,
 //!   predicted against the partners' current plans and tagged with the partner's plan
 //!   number. A pair is always covered by the sphere that predicted it last: that sphere's

@@ -290,3 +290,39 @@ fn stale_events_take_runners_up_and_every_pair_stays_covered() {
     }
     assert!(taken[0] > 1000.0 && taken[1] > 10.0, "{taken:?}");
 }
+
+/// A sphere that crosses its shell re-centres ahead of itself along its flight, no further
+/// than half its shell, once the fluid has a mean free time; the run stays whole.
+#[test]
+fn shell_crossings_re_centre_ahead_along_the_flight() {
+    let side = 12.0;
+    let spheres = random_spheres(4, 300, (0.5, 0.5), 0.0, side, 1.0);
+    let cell = PeriodicBox {
+        min: Vec3::ZERO,
+        max: Vec3::splat(side),
+    };
+    let mut gas = PeriodicSpheres::new(cell, &spheres).unwrap();
+    // Before any collision there is no free time: the centre is where the sphere is.
+    assert_eq!(gas.new_centre(0), gas.motion[0].at(gas.now()));
+    run(&mut gas, 5.0);
+    let mut ahead = 0;
+    for id in 0..gas.len() as u32 {
+        let m = gas.motion[id as usize];
+        let here = m.at(gas.now());
+        let offset = gas.new_centre(id) - here;
+        let shell = gas.centre[id as usize].shell;
+        assert!(
+            offset.length() <= 0.5 * shell * (1.0 + 1e-12),
+            "{id}: {offset}"
+        );
+        if m.velocity != Vec3::ZERO {
+            // Along the velocity, forwards.
+            let along = offset.dot(m.velocity) / m.velocity.length();
+            assert!((along - offset.length()).abs() <= 1e-9, "{id}: {offset}");
+            ahead += usize::from(along > 0.0);
+        }
+    }
+    assert!(ahead > 250, "{ahead} of 300 re-centre ahead");
+    run(&mut gas, 10.0);
+    assert!(gas.stats().events_by_kind["shell"] > 100);
+}
