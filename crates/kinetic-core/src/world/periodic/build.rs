@@ -217,7 +217,7 @@ impl PeriodicSpheres {
         let here = m.at(self.now);
         let speed = m.velocity.length();
         let collisions = self.event_counts[0];
-        if !(speed > 0.0) || collisions == 0 {
+        if speed == 0.0 || collisions == 0 {
             return here;
         }
         let free_time = self.now * self.len() as Real / (2.0 * collisions as Real);
