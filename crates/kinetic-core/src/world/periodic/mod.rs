@@ -14,7 +14,7 @@
 //! - **Neighbour lists with a shell.** Each sphere has a list centre (a point within its
 //!   shell when the list was made) and lists the spheres whose centres were within
 //!   `s (r_a + r_b)` of it, with a shell factor `s` chosen from the packing so that a sphere
-//!   lists about 16 others. While each sphere stays within `(s - 1) r` of its centre, an
+//!   lists about 14 others. While each sphere stays within `(s - 1) r` of its centre, an
 //!   unlisted pair cannot touch; a sphere that reaches its shell re-centres (a mean free
 //!   path ahead along its flight) and lists again from a cell grid of centres. Lists are
 //!   symmetric: re-listing one sphere updates its neighbours' lists.
@@ -45,9 +45,9 @@ use calendar::Calendar;
 use rustc_hash::FxHashMap;
 
 /// A sphere lists the spheres within a shell factor times the sum of radii: about this many
-/// of them. Measured on fluids at packings 0.26 and 0.45, about 16 neighbours are fastest
+/// of them. Measured on fluids at packings 0.26 and 0.45, about 14 neighbours are fastest
 /// (fewer shell crossings in thin fluids, few enough pairs in dense ones).
-const NEIGHBOURS: Real = 16.0;
+const NEIGHBOURS: Real = 14.0;
 /// The least and greatest shell factors.
 const SHELL: (Real, Real) = (1.3, 2.5);
 /// Reaches used to list pairs are this much (relative) wider, and shells this much narrower,
