@@ -154,7 +154,7 @@ impl PeriodicSpheres {
             list_factor: shell * (1.0 + SLACK),
             event_counts: [0; 4],
             spare_counts: [0; 2],
-            kept: Vec::new(),
+            sifted: None,
             #[cfg(target_arch = "x86_64")]
             wide: std::arch::is_x86_feature_detected!("avx"),
             found: Vec::new(),

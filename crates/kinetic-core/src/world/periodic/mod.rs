@@ -232,8 +232,8 @@ pub struct PeriodicSpheres {
     event_counts: [u64; 4],
     /// Stale events that took a runner-up, and that took the shell crossing.
     spare_counts: [u64; 2],
-    /// Room for the pairs a prediction keeps from a batch.
-    kept: Vec<sift::Kept>,
+    /// Room for what the first pass of a prediction writes.
+    sifted: Option<Box<sift::Sifted>>,
     /// Whether the first pass goes four pairs at a time (the processor has AVX).
     #[cfg(target_arch = "x86_64")]
     wide: bool,

@@ -196,21 +196,20 @@ impl PeriodicSpheres {
         let now = self.now;
         let (m, here, mut best) = self.start_prediction(id);
         if self.skips.is_empty() {
-            let mut kept = std::mem::take(&mut self.kept);
-            kept.resize(BATCH, Kept::NONE);
+            let mut sifted = self.sifted.take().unwrap_or_default();
             let list = self.lists.of(id);
             for batch in list.chunks(BATCH) {
                 let bound = best.bound();
-                let kept_len = if m.t0 == now {
-                    self.first_pass::<true>(&m, here, bound, batch, &mut kept)
+                let kept = if m.t0 == now {
+                    self.first_pass::<true>(&m, here, bound, batch, &mut sifted)
                 } else {
-                    self.first_pass::<false>(&m, here, bound, batch, &mut kept)
+                    self.first_pass::<false>(&m, here, bound, batch, &mut sifted)
                 };
-                for pair in &kept[..kept_len] {
-                    self.offer_kept(id, &m, here, pair, &mut best);
+                for pair in sifted.kept(batch, kept) {
+                    self.offer_kept(id, &m, here, &pair, &mut best);
                 }
             }
-            self.kept = kept;
+            self.sifted = Some(sifted);
         } else {
             for j in 0..self.lists.of(id).len() {
                 let k = self.lists.of(id)[j];

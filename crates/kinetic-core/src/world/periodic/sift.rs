@@ -9,8 +9,8 @@ use crate::math::{Real, Vec3};
 use crate::prefetch::prefetch;
 
 impl PeriodicSpheres {
-    /// The first pass over a batch of `m`'s neighbours, one pair at a time: writes to `kept`
-    /// the pairs that [`pair_due`](super::predict::pair_due) would not turn away at once
+    /// The first pass over a batch of `m`'s neighbours, one pair at a time: writes to `out`
+    /// every place's coefficients and the places of the pairs that [`pair_due`](super::predict::pair_due) would not turn away at once
     /// (apart, and parting or failing after `bound`), and returns how many. Each pair's gap
     /// is taken around the later of the two plans' starts, as `pair_due` takes it;
     /// `STARTED_NOW` says that `m`'s plan starts now, so that every pair's gap is taken
@@ -22,7 +22,7 @@ impl PeriodicSpheres {
         here: Vec3,
         bound: Real,
         batch: &[u32],
-        kept: &mut [Kept],
+        out: &mut Sifted,
     ) -> usize {
         let now = self.now;
         let motion = &self.motion[..];
@@ -33,9 +33,9 @@ impl PeriodicSpheres {
         for (start, &k) in starts.iter_mut().zip(batch) {
             *start = motion[k as usize].t0;
         }
-        let kept = &mut kept[..batch.len()];
         let mut len = 0;
-        for (&k, &t0) in batch.iter().zip(&starts) {
+        out.clear = 0;
+        for (j, (&k, &t0)) in batch.iter().zip(&starts).enumerate() {
             let mb = &motion[k as usize];
             let mut d = here - mb.at(now);
             let near = (d.x.abs() < half.x) & (d.y.abs() < half.y) & (d.z.abs() < half.z);
@@ -75,13 +75,9 @@ impl PeriodicSpheres {
                 ahead.is_finite() & (c0 > -c1 * (ahead * (1.0 + 1e-9) + bound.abs() * 1e-15));
             let parting = (c0 <= 0.0) & (c1 > 0.0) & (base == now);
             let none = parting | (apart & ((c1 >= 0.0) | after_bound));
-            kept[len] = Kept {
-                k,
-                c0,
-                c1,
-                base,
-                clear: apart,
-            };
+            (out.c0[j], out.c1[j], out.base[j]) = (c0, c1, base);
+            out.clear |= u32::from(apart) << j;
+            out.at[len] = j as u8;
             len += usize::from(!none);
         }
         len
@@ -96,16 +92,16 @@ impl PeriodicSpheres {
         here: Vec3,
         bound: Real,
         batch: &[u32],
-        kept: &mut [Kept],
+        out: &mut Sifted,
     ) -> usize {
         #[cfg(target_arch = "x86_64")]
         if self.wide {
             // SAFETY: `wide` is set only where the processor has AVX, which `sift_wide`
             // asks for.
             #[allow(unsafe_code)]
-            return unsafe { self.sift_wide::<STARTED_NOW>(m, here, bound, batch, kept) };
+            return unsafe { self.sift_wide::<STARTED_NOW>(m, here, bound, batch, out) };
         }
-        self.sift::<STARTED_NOW>(m, here, bound, batch, kept)
+        self.sift::<STARTED_NOW>(m, here, bound, batch, out)
     }
 
     /// The scalar pass (`sift`) four pairs at a time in the four lanes of AVX registers, on
@@ -120,7 +116,7 @@ impl PeriodicSpheres {
         here: Vec3,
         bound: Real,
         batch: &[u32],
-        kept: &mut [Kept],
+        out: &mut Sifted,
     ) -> usize {
         use std::arch::x86_64::*;
         let now = self.now;
@@ -177,17 +173,9 @@ impl PeriodicSpheres {
                 (_mm256_load_pd(m), _mm256_load_pd(m.add(4)))
             }
         };
-        let lanes = |x: __m256d| {
-            let (lo, hi) = (_mm256_castpd256_pd128(x), _mm256_extractf128_pd::<1>(x));
-            [
-                _mm_cvtsd_f64(lo),
-                _mm_cvtsd_f64(_mm_unpackhi_pd(lo, lo)),
-                _mm_cvtsd_f64(hi),
-                _mm_cvtsd_f64(_mm_unpackhi_pd(hi, hi)),
-            ]
-        };
         let mut len = 0;
-        for quad in batch.chunks(4) {
+        out.clear = 0;
+        for (q, quad) in batch.chunks(4).enumerate() {
             let last = quad[quad.len() - 1];
             let at = |j: usize| *quad.get(j).unwrap_or(&last);
             let (a, b, c, d4) = (halves(at(0)), halves(at(1)), halves(at(2)), halves(at(3)));
@@ -274,16 +262,18 @@ impl PeriodicSpheres {
                 _mm256_and_pd(apart, _mm256_or_pd(le(zero, c1), after_bound)),
             );
             let keep = !_mm256_movemask_pd(none) & ((1 << quad.len()) - 1);
-            let apart = _mm256_movemask_pd(apart);
-            let (c0s, c1s, bases) = (lanes(c0), lanes(c1), lanes(base));
-            for (j, &k) in quad.iter().enumerate() {
-                kept[len] = Kept {
-                    k,
-                    c0: c0s[j],
-                    c1: c1s[j],
-                    base: bases[j],
-                    clear: apart >> j & 1 != 0,
-                };
+            let at = 4 * q;
+            // SAFETY: `at + 4 <= BATCH`: a batch holds at most `BATCH` pairs, a multiple of 4.
+            #[allow(unsafe_code)]
+            unsafe {
+                _mm256_storeu_pd(out.c0[at..at + 4].as_mut_ptr(), c0);
+                _mm256_storeu_pd(out.c1[at..at + 4].as_mut_ptr(), c1);
+                _mm256_storeu_pd(out.base[at..at + 4].as_mut_ptr(), base);
+            }
+            out.clear |= (_mm256_movemask_pd(apart) as u32) << at;
+            for j in 0..4 {
+                // (`len` is below `at + j`, so below `BATCH`.)
+                out.at[len % BATCH] = (at + j) as u8;
                 len += (keep >> j & 1) as usize;
             }
         }
@@ -293,6 +283,51 @@ impl PeriodicSpheres {
 
 /// Neighbours sifted in one batch.
 pub(super) const BATCH: usize = 32;
+
+/// What the first pass writes for a batch: each place's first two coefficients of its gap
+/// `c0 + c1 tau + c2 tau^2` around `base`, and whether the two are clear of each other at
+/// `base` and now (a bit a place), kept or not; and the places of the kept pairs, in order.
+#[derive(Clone, Debug)]
+pub(super) struct Sifted {
+    c0: [Real; BATCH],
+    c1: [Real; BATCH],
+    base: [Real; BATCH],
+    clear: u32,
+    at: [u8; BATCH],
+}
+
+impl Default for Sifted {
+    fn default() -> Sifted {
+        Sifted {
+            c0: [0.0; BATCH],
+            c1: [0.0; BATCH],
+            base: [0.0; BATCH],
+            clear: 0,
+            at: [0; BATCH],
+        }
+    }
+}
+
+impl Sifted {
+    /// The `len` pairs kept from `batch`, in order.
+    #[inline]
+    pub(super) fn kept<'a>(
+        &'a self,
+        batch: &'a [u32],
+        len: usize,
+    ) -> impl Iterator<Item = Kept> + 'a {
+        self.at[..len].iter().map(move |&j| {
+            let j = j as usize;
+            Kept {
+                k: batch[j],
+                c0: self.c0[j],
+                c1: self.c1[j],
+                base: self.base[j],
+                clear: self.clear >> j & 1 != 0,
+            }
+        })
+    }
+}
 
 /// A pair kept by the first pass: the neighbour, the first two coefficients of its gap
 /// `c0 + c1 tau + c2 tau^2` around `base`, and whether the two are clear of each other at
@@ -304,16 +339,6 @@ pub(super) struct Kept {
     pub(super) c1: Real,
     pub(super) base: Real,
     pub(super) clear: bool,
-}
-
-impl Kept {
-    pub(super) const NONE: Kept = Kept {
-        k: 0,
-        c0: 0.0,
-        c1: 0.0,
-        base: 0.0,
-        clear: false,
-    };
 }
 
 #[cfg(all(test, target_arch = "x86_64"))]
@@ -328,7 +353,7 @@ mod tests {
     /// pairs kept as by the scalar pass, with the same coefficients and bases to the bit.
     /// Returns the pairs compared.
     fn same_passes(gas: &PeriodicSpheres) -> usize {
-        let bits = |k: &Kept| {
+        let bits = |k: Kept| {
             (
                 k.k,
                 k.c0.to_bits(),
@@ -338,8 +363,8 @@ mod tests {
             )
         };
         let mut checked = 0;
-        let (mut a, mut b) = (vec![Kept::NONE; BATCH], vec![Kept::NONE; BATCH]);
-        let (mut c, mut d) = (vec![Kept::NONE; BATCH], vec![Kept::NONE; BATCH]);
+        let (mut a, mut b) = (Sifted::default(), Sifted::default());
+        let (mut c, mut d) = (Sifted::default(), Sifted::default());
         for id in 0..gas.len() as u32 {
             let m = gas.motion[id as usize];
             let here = m.at(gas.now);
@@ -358,8 +383,8 @@ mod tests {
                         )
                     };
                     assert_eq!(scalar, lanes, "sphere {id}: kept counts");
-                    let pairs = a[..scalar.0].iter().zip(&c);
-                    for (x, y) in pairs.chain(b[..scalar.1].iter().zip(&d)) {
+                    let pairs = a.kept(batch, scalar.0).zip(c.kept(batch, lanes.0));
+                    for (x, y) in pairs.chain(b.kept(batch, scalar.1).zip(d.kept(batch, lanes.1))) {
                         assert_eq!(bits(x), bits(y), "sphere {id}");
                     }
                     checked += scalar.0 + scalar.1;
