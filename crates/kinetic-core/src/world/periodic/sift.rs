@@ -271,11 +271,12 @@ impl PeriodicSpheres {
                 _mm256_storeu_pd(out.base[at..at + 4].as_mut_ptr(), base);
             }
             out.clear |= (_mm256_movemask_pd(apart) as u32) << at;
-            for j in 0..4 {
-                // (`len` is below `at + j`, so below `BATCH`.)
-                out.at[len % BATCH] = (at + j) as u8;
-                len += (keep >> j & 1) as usize;
-            }
+            // The kept lanes' places, packed four bytes at once (`len <= at`, so the four
+            // bytes fit the room after the batch's places).
+            let (places, count) = KEPT_LANES[keep as usize];
+            let places = places + (at as u32) * 0x0101_0101;
+            out.at[len..len + 4].copy_from_slice(&places.to_le_bytes());
+            len += count as usize;
         }
         len
     }
@@ -293,8 +294,30 @@ pub(super) struct Sifted {
     c1: [Real; BATCH],
     base: [Real; BATCH],
     clear: u32,
-    at: [u8; BATCH],
+    at: [u8; BATCH + 3],
 }
+
+/// For each mask of four lanes: the kept lanes in order, one a byte from the lowest, and
+/// how many they are.
+#[cfg(target_arch = "x86_64")]
+const KEPT_LANES: [(u32, u8); 16] = {
+    let mut table = [(0, 0); 16];
+    let mut mask = 0;
+    while mask < 16 {
+        let (mut places, mut count) = (0u32, 0u8);
+        let mut lane = 0;
+        while lane < 4 {
+            if mask >> lane & 1 != 0 {
+                places |= lane << (8 * count);
+                count += 1;
+            }
+            lane += 1;
+        }
+        table[mask as usize] = (places, count);
+        mask += 1;
+    }
+    table
+};
 
 impl Default for Sifted {
     fn default() -> Sifted {
@@ -303,7 +326,7 @@ impl Default for Sifted {
             c1: [0.0; BATCH],
             base: [0.0; BATCH],
             clear: 0,
-            at: [0; BATCH],
+            at: [0; BATCH + 3],
         }
     }
 }
