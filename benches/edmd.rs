@@ -16,7 +16,7 @@
 //!   a whole time unit (it prints its collision count once per time unit). Without it, the
 //!   bench says so and runs ours alone for `C` collisions.
 //! - Ours: the same `N`, packing and number of collisions as EDMD's run: `kinetic-collide
-//!   generate --periodic`'s system (a lattice start above packing 0.35, random below),
+//!   generate --periodic`'s system (a lattice start above packing 0.3, random below),
 //!   simulated on [`PeriodicSpheres`] in a fresh process with no event log written.
 //!
 //! Both are timed as whole processes (start, simulation, exit) and their peak resident memory

@@ -82,7 +82,7 @@ enum Command {
         /// Small over large diameter, in (0, 1]; 1 gives the monodisperse gas.
         #[arg(long, default_value_t = 1.0)]
         ratio: f64,
-        /// Fraction of the box the spheres fill (at most 0.55; above 0.35 the spheres start on
+        /// Fraction of the box the spheres fill (at most 0.55; above 0.3 the spheres start on
         /// a face-centred cubic lattice, which the run melts).
         #[arg(long, default_value_t = 0.26)]
         packing: f64,

@@ -2,7 +2,7 @@
 //! Carnahan-Starling's equation of state.
 //!
 //! `cargo run --release -p kinetic-core --example periodic_gas -- [N] [PACKING] [COLLISIONS]`
-//! (defaults: 32000 spheres, packing 0.26, 1e6 collisions; above 0.35 they start on a lattice).
+//! (defaults: 32000 spheres, packing 0.26, 1e6 collisions; above 0.3 they start on a lattice).
 
 use kinetic_core::{FlightPlan, PeriodicSpheres};
 use kinetic_scenes::hard_spheres::HardSpheres;
