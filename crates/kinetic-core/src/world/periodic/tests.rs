@@ -176,15 +176,20 @@ fn images_collide_as_the_exhaustive_reference_says() {
     }
 }
 
-#[test]
-fn energy_and_momentum_are_kept_and_the_bulk_is_sane() {
+/// 300 spheres of radius 0.5 in a periodic box of side 12, at random from `seed`.
+fn thin_gas(seed: u64) -> PeriodicSpheres {
     let side = 12.0;
-    let spheres = random_spheres(9, 300, (0.5, 0.5), 0.0, side, 1.0);
+    let spheres = random_spheres(seed, 300, (0.5, 0.5), 0.0, side, 1.0);
     let cell = PeriodicBox {
         min: Vec3::ZERO,
         max: Vec3::splat(side),
     };
-    let mut gas = PeriodicSpheres::new(cell, &spheres).unwrap();
+    PeriodicSpheres::new(cell, &spheres).unwrap()
+}
+
+#[test]
+fn energy_and_momentum_are_kept_and_the_bulk_is_sane() {
+    let mut gas = thin_gas(9);
     let momentum = |g: &PeriodicSpheres| -> Vec3 { g.motion.iter().map(|m| m.velocity).sum() };
     let (e0, p0) = (energy(&gas), momentum(&gas));
     gas.advance_to(30.0).unwrap();
@@ -295,13 +300,7 @@ fn stale_events_take_runners_up_and_every_pair_stays_covered() {
 /// than half its shell, once the fluid has a mean free time; the run stays whole.
 #[test]
 fn shell_crossings_re_centre_ahead_along_the_flight() {
-    let side = 12.0;
-    let spheres = random_spheres(4, 300, (0.5, 0.5), 0.0, side, 1.0);
-    let cell = PeriodicBox {
-        min: Vec3::ZERO,
-        max: Vec3::splat(side),
-    };
-    let mut gas = PeriodicSpheres::new(cell, &spheres).unwrap();
+    let mut gas = thin_gas(4);
     // Before any collision there is no free time: the centre is where the sphere is.
     assert_eq!(gas.new_centre(0), gas.motion[0].at(gas.now()));
     run(&mut gas, 5.0);
