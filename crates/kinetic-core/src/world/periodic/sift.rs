@@ -10,8 +10,9 @@ use crate::prefetch::prefetch;
 
 impl PeriodicSpheres {
     /// The first pass over a batch of `m`'s neighbours, one pair at a time: writes to `out`
-    /// every place's coefficients and the places of the pairs that [`pair_due`](super::predict::pair_due) would not turn away at once
-    /// (apart, and parting or failing after `bound`), and returns how many. Each pair's gap
+    /// every place's coefficients and the places of the pairs that
+    /// [`pair_due`](super::predict::pair_due) would not turn away at once (apart, and
+    /// parting or failing after `bound`), and returns how many. Each pair's gap
     /// is taken around the later of the two plans' starts, as `pair_due` takes it;
     /// `STARTED_NOW` says that `m`'s plan starts now, so that every pair's gap is taken
     /// around now. Processors without AVX take it; the tests check the lanes against it.
@@ -282,8 +283,9 @@ impl PeriodicSpheres {
     }
 }
 
-/// Neighbours sifted in one batch.
+/// Neighbours sifted in one batch: whole quads, one bit each in [`Sifted`]'s `clear`.
 pub(super) const BATCH: usize = 32;
+const _: () = assert!(BATCH.is_multiple_of(4) && BATCH <= 32);
 
 /// What the first pass writes for a batch: each place's first two coefficients of its gap
 /// `c0 + c1 tau + c2 tau^2` around `base`, and whether the two are clear of each other at
