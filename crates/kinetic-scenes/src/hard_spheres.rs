@@ -75,19 +75,6 @@ pub enum HardSpheresError {
         /// The packing fraction.
         packing: f64,
     },
-    /// Random placement gave up: the box is too full.
-    #[error(
-        "could not place sphere {placed} of {n} without overlap after {attempts} attempts: \
-         lower the packing fraction"
-    )]
-    Crowded {
-        /// Spheres placed.
-        placed: usize,
-        /// Spheres asked for.
-        n: usize,
-        /// Attempts made.
-        attempts: usize,
-    },
 }
 
 /// One species of a system: how many, their diameter and mass.
@@ -225,7 +212,7 @@ impl HardSpheres {
         let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
         let species = self.species();
         let random = if self.packing <= RANDOM_MAX {
-            self.random_start(&species, side, &mut rng).ok()
+            self.random_start(&species, side, &mut rng)
         } else {
             None
         };
@@ -260,13 +247,14 @@ impl HardSpheres {
         })
     }
 
-    /// Random sequential placement, with each sphere's velocity drawn as it is placed.
+    /// Random sequential placement, with each sphere's velocity drawn as it is placed; `None`
+    /// when it gives up (the box is too full for a thousand tries a sphere).
     fn random_start(
         &self,
         species: &[Species],
         side: f64,
         rng: &mut ChaCha8Rng,
-    ) -> Result<Vec<(f64, SceneObject)>, HardSpheresError> {
+    ) -> Option<Vec<(f64, SceneObject)>> {
         let mut placer = Placer::new(species, side);
         let mut objects = Vec::with_capacity(self.n);
         let mut attempts = 0usize;
@@ -277,11 +265,7 @@ impl HardSpheres {
                 let position = loop {
                     attempts += 1;
                     if attempts > 1000 * self.n + 100_000 {
-                        return Err(HardSpheresError::Crowded {
-                            placed: objects.len(),
-                            n: self.n,
-                            attempts,
-                        });
+                        return None;
                     }
                     let p = DVec3::new(
                         rng.random_range(r..side - r),
@@ -301,7 +285,7 @@ impl HardSpheres {
                 objects.push((s.mass, SceneObject::ball(r, position, velocity)));
             }
         }
-        Ok(objects)
+        Some(objects)
     }
 
     /// A face-centred cubic lattice of `4 k^3 >= n` sites (`n` of them taken at random), the
