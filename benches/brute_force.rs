@@ -6,7 +6,8 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use kinetic_collide::Response;
-use kinetic_collide::run::{StructureName, run_scene};
+use kinetic_collide::run::run_scene;
+use kinetic_collide::Structure;
 use kinetic_scenes::BallScene;
 
 fn brute_force(c: &mut Criterion) {
@@ -20,7 +21,7 @@ fn brute_force(c: &mut Criterion) {
             ..BallScene::gas(1000, 1)
         }
         .build();
-        let out = run_scene(&scene, Some(StructureName::BruteForce)).expect("scene runs");
+        let out = run_scene(&scene, Some(Structure::BruteForce)).expect("scene runs");
         eprintln!(
             "brute_force/{name}: n = 1000, {} events, {} contacts, {} certificates",
             out.stats.events_total(),
@@ -28,7 +29,7 @@ fn brute_force(c: &mut Criterion) {
             out.stats.certificates_max
         );
         group.bench_function(format!("gas_n1000_{name}"), |b| {
-            b.iter(|| run_scene(&scene, Some(StructureName::BruteForce)).expect("scene runs"))
+            b.iter(|| run_scene(&scene, Some(Structure::BruteForce)).expect("scene runs"))
         });
     }
     group.finish();

@@ -10,7 +10,8 @@
 //! build alone makes n^2 / 2 certificates, and a budget stops runs only between events.
 //! Runs under 20 ms are the best of five.
 
-use kinetic_collide::run::{Stream, StructureName, choose_structure, run_scene_streamed};
+use kinetic_collide::run::{Stream, run_scene_streamed};
+use kinetic_collide::Structure;
 use kinetic_scenes::choice::{ChoiceCase, KINDS, choice_scene, response_name, world_name};
 use std::ops::ControlFlow;
 use std::sync::Arc;
@@ -31,7 +32,7 @@ struct Timing {
     contacts: u64,
 }
 
-fn timed(scene: &kinetic_collide::Scene, s: StructureName, budget: f64) -> Option<Timing> {
+fn timed(scene: &kinetic_collide::scene::Scene, s: Structure, budget: f64) -> Option<Timing> {
     let stop = Arc::new(AtomicBool::new(false));
     let done = Arc::new(AtomicBool::new(false));
     let timer = {
@@ -112,22 +113,19 @@ fn main() {
         };
         let case = ChoiceCase { kind, n, scene };
         let scene = &case.scene;
-        let pick = choose_structure(scene);
-        let mut rows: Vec<(StructureName, Timing)> = Vec::new();
+        let pick = Structure::for_scene(scene);
+        let mut rows: Vec<(Structure, Timing)> = Vec::new();
         // The default's pick first: the others are then stopped at a few times its time.
         let order = std::iter::once(pick).chain(
-            StructureName::ALL
-                .into_iter()
-                .map(|(_, s)| s)
-                .filter(|&s| s != pick),
+            Structure::ALL.into_iter().filter(|&s| s != pick),
         );
         for s in order {
             let named = only
                 .as_ref()
-                .is_none_or(|o| s == pick || o.iter().any(|n| n == s.as_str()));
+                .is_none_or(|o| s == pick || o.iter().any(|n| n == s.name()));
             if !named
                 || !s.applies_to(scene)
-                || (s == StructureName::BruteForce && scene.objects.len() > 3000)
+                || (s == Structure::BruteForce && scene.objects.len() > 3000)
             {
                 continue;
             }
@@ -155,7 +153,7 @@ fn main() {
                 rows.push((s, t));
             }
         }
-        rows.sort_by_key(|(s, _)| StructureName::ALL.iter().position(|(_, x)| x == s));
+        rows.sort_by_key(|(s, _)| Structure::ALL.iter().position(|x| x == s));
         let (fast, best) = rows
             .iter()
             .filter(|(_, t)| !t.stopped)
@@ -175,7 +173,7 @@ fn main() {
             .map(|(s, t)| {
                 format!(
                     "{} {}{:.3}",
-                    s.as_str(),
+                    s.name(),
                     if t.stopped { ">" } else { "" },
                     t.seconds
                 )
@@ -185,9 +183,9 @@ fn main() {
             "| {} | {} | {} | {:.2} | {} | {} |",
             case.kind,
             scene.objects.len(),
-            pick.as_str(),
+            pick.name(),
             ratio,
-            fast.as_str(),
+            fast.name(),
             times.join(", ")
         );
         for (s, t) in &rows {
@@ -197,7 +195,7 @@ fn main() {
                 scene.objects.len(),
                 world_name(scene),
                 response_name(scene),
-                s.as_str(),
+                s.name(),
                 t.seconds,
                 t.stopped,
                 t.events,

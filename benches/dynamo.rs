@@ -20,9 +20,10 @@
 //! seconds (default 120), the time for 1e6 then scaled from its rate. Without DynamO the table
 //! holds our figures only.
 
-use kinetic_collide::run::{StructureName, choose_structure};
+use kinetic_collide::Structure;
 use kinetic_collide::scene::outer_radius;
-use kinetic_collide::{ContactKind, ElasticCells, Walls};
+use kinetic_collide::spheres::ElasticCells;
+use kinetic_collide::{ContactKind, Walls};
 use kinetic_collide_cli::process::{peak_kb, run_child};
 use kinetic_scenes::hard_spheres::HardSpheres;
 use std::fmt::Write as _;
@@ -91,7 +92,7 @@ fn child(system: System, collisions: f64) -> Result<(), String> {
         .spheres(collisions)
         .build()
         .map_err(|e| e.to_string())?;
-    if choose_structure(&scene) != StructureName::Cells {
+    if Structure::for_scene(&scene) != Structure::Cells {
         return Err(format!("{}: not run on the cell grid", system.name()));
     }
     let balls: Vec<_> = scene

@@ -9,8 +9,10 @@
 //! event-driven MD, single-core variant) and the periodic structure one after the other,
 //! `K` times each (default 3), interleaved, and keeps each side's median run.
 //!
-//! - EDMD: built from `DIR` (default `../shared/anchors/edmd`, beside the project; nothing of
-//!   it is in this repository) with `cc -O3 -march=native`, its settings edited in a copy:
+//! - EDMD: built from its sources in `DIR` (`--edmd DIR`, or the environment variable
+//!   `EDMD_DIR`; nothing of it is in this repository: it is Frank Smallenburg's EDMD, MIT
+//!   licence, published with Eur. Phys. J. E 45, 22 (2022), arXiv 2201.01100, whose folder
+//!   holds `mdSingle.c`) with `cc -O3 -march=native`, its settings edited in a copy:
 //!   an FCC start at the packing fraction, `N` spheres (four times a cube), no thermostat, a
 //!   run long enough for about `C` collisions (default 3e6) by Enskog's rate, rounded up to
 //!   a whole time unit (it prints its collision count once per time unit). Without it, the
@@ -23,7 +25,7 @@
 //! is the process's (GNU time's maximum resident set). The table goes to standard output and
 //! the CSV to `--out` (default `docs/results/edmd.csv`).
 
-use kinetic_collide::PeriodicSpheres;
+use kinetic_collide::spheres::PeriodicSpheres;
 use kinetic_collide::scene::outer_radius;
 use kinetic_collide_cli::process::{peak_kb, run_child, timed};
 use kinetic_scenes::hard_spheres::HardSpheres;
@@ -262,7 +264,7 @@ fn main() {
     if run_child(&args, System::parse, child) {
         return;
     }
-    let mut source = PathBuf::from("../shared/anchors/edmd");
+    let mut source = std::env::var_os("EDMD_DIR").map(PathBuf::from);
     let mut collisions = 3e6;
     let mut repeat = 3usize;
     let mut out = PathBuf::from("docs/results/edmd.csv");
@@ -280,7 +282,7 @@ fn main() {
     while let Some(a) = it.next() {
         let mut value = || it.next().cloned().unwrap_or_default();
         match a.as_str() {
-            "--edmd" => source = PathBuf::from(value()),
+            "--edmd" => source = Some(PathBuf::from(value())),
             "--collisions" => collisions = value().parse().expect("--collisions: a number"),
             "--repeat" => repeat = value().parse::<usize>().expect("--repeat: a count").max(1),
             "--out" => out = PathBuf::from(value()),
@@ -294,13 +296,22 @@ fn main() {
             other => panic!("unknown argument {other}"),
         }
     }
-    let present = source.join("mdSingle.c").exists();
-    if !present {
-        eprintln!(
-            "EDMD's sources are not in {}: running kinetic-collide alone",
-            source.display()
-        );
-    }
+    let source = match source {
+        Some(dir) if dir.join("mdSingle.c").exists() => Some(dir),
+        Some(dir) => {
+            eprintln!(
+                "EDMD's sources are not in {}: running kinetic-collide alone",
+                dir.display()
+            );
+            None
+        }
+        None => {
+            eprintln!(
+                "no EDMD folder given (--edmd DIR or EDMD_DIR): running kinetic-collide alone"
+            );
+            None
+        }
+    };
     let mut csv = String::from(
         "n,packing,collisions,ours_seconds,ours_rate,ours_peak_mb,ours_z,\
          edmd_seconds,edmd_rate,edmd_peak_mb,edmd_z,rate_ratio,memory_ratio,carnahan_starling_z\n",
@@ -315,8 +326,8 @@ fn main() {
         let spheres = system.spheres(collisions);
         // EDMD prints its count once per time unit: a whole number of units.
         let time = (collisions / spheres.collision_rate()).ceil().max(1.0);
-        let edmd = if present {
-            match Edmd::build(&source, system, time) {
+        let edmd = if let Some(source) = &source {
+            match Edmd::build(source, system, time) {
                 Ok(e) => Some(e),
                 Err(e) => {
                     eprintln!("{name}: EDMD: {e}");

@@ -6,7 +6,7 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use kinetic_collide::run::run_scene;
 use kinetic_collide_cli::rapier_run::{Broad, run_rapier};
-use kinetic_collide_cli::stepped::run_stepped;
+use kinetic_collide_cli::time_stepped::run_stepped;
 use kinetic_scenes::families::Family;
 use std::hint::black_box;
 

@@ -8,7 +8,8 @@
 //! `cargo bench --bench flight` prints a markdown table; `-- --quick` stops at n = 1000.
 //! The brute force runs up to n = 1000 (it keeps n^2 / 2 certificates).
 
-use kinetic_collide::run::{StructureName, run_scene};
+use kinetic_collide::run::run_scene;
+use kinetic_collide::Structure;
 use kinetic_collide::scene::Scene;
 use kinetic_scenes::{FlightScene, NestScene};
 
@@ -43,12 +44,12 @@ fn main() {
         {
             let mut contacts = None;
             for s in [
-                StructureName::Sweep,
-                StructureName::Guards,
-                StructureName::Grid,
-                StructureName::BruteForce,
+                Structure::Sweep,
+                Structure::Guards,
+                Structure::Grid,
+                Structure::BruteForce,
             ] {
-                if s == StructureName::BruteForce && n > 1000 {
+                if s == Structure::BruteForce && n > 1000 {
                     continue;
                 }
                 let out = run_scene(&scene, Some(s)).expect("the scene runs");
@@ -56,7 +57,7 @@ fn main() {
                 assert_eq!(*contacts.get_or_insert(c), c, "{s:?} disagrees on contacts");
                 println!(
                     "| {name} | {sigma} | {n} | {} | {:.2} | {} | {:.0} | {} | {} | {:.3} |",
-                    s.as_str(),
+                    s.name(),
                     out.stats.candidate_pairs_mean() / n as f64,
                     out.stats.candidate_pairs_max,
                     out.stats.certificates_mean(),

@@ -5,7 +5,8 @@
 //!
 //! `cargo bench --bench rolling` (add `-- --quick` for n = 1e3 and 1e4 only).
 
-use kinetic_collide::run::{RunOutput, StructureName, run_scene};
+use kinetic_collide::run::{RunOutput, run_scene};
+use kinetic_collide::Structure;
 use kinetic_scenes::BallScene;
 
 fn main() {
@@ -22,20 +23,20 @@ fn main() {
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for &(n, horizon) in sizes {
         let scene = BallScene::rolling(n, horizon, 1).build();
-        let brute = (n <= 10_000).then(|| run_scene(&scene, Some(StructureName::BruteForce)));
+        let brute = (n <= 10_000).then(|| run_scene(&scene, Some(Structure::BruteForce)));
         let brute = brute.map(|r| r.expect("the brute force runs"));
         if let Some(b) = &brute {
             row(n, horizon, b, None);
         }
         // The global lists make some fifty times the tree's events (every point passes every
         // box of every level); at n = 1e5 that is hours here, so they stop at 1e4.
-        let variants: &[StructureName] = if n <= 10_000 {
+        let variants: &[Structure] = if n <= 10_000 {
             &[
-                StructureName::RollingTree,
-                StructureName::RollingGlobalLists,
+                Structure::RollingTree,
+                Structure::RollingGlobalLists,
             ]
         } else {
-            &[StructureName::RollingTree]
+            &[Structure::RollingTree]
         };
         for &s in variants {
             let out = run_scene(&scene, Some(s)).expect("the rolling tree runs");
@@ -48,7 +49,7 @@ fn main() {
                 assert!(
                     same,
                     "{} and the brute force logged different events at n = {n}",
-                    s.as_str()
+                    s.name()
                 );
             }
             row(n, horizon, &out, brute.as_ref());
@@ -62,7 +63,7 @@ fn row(n: usize, horizon: f64, out: &RunOutput, brute: Option<&RunOutput>) {
     let nlogn = n as f64 * (n as f64).log2();
     println!(
         "| {n} | {horizon} | {} | {:.3} | {} | {} | {} | {} | {} | {:.2} | {:.0} | {:.1} | {} |",
-        out.structure.as_str(),
+        out.structure.name(),
         out.wall_seconds,
         s.events_total(),
         kind("swap"),

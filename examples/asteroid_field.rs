@@ -5,7 +5,7 @@
 //!
 //! `cargo run --release --example asteroid_field -- [boxes|candidates] [N]`.
 
-use kinetic_collide::run::StructureName;
+use kinetic_collide::Structure;
 use kinetic_collide_cli::frames::{
     FrameSpec, Overlay, render_series, run_with_snapshots, write_run,
 };
@@ -22,7 +22,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         overlay,
         ..FrameSpec::default()
     };
-    let (output, snapshots) = run_with_snapshots(&scene, Some(StructureName::Guards), &spec)?;
+    let (output, snapshots) = run_with_snapshots(&scene, Some(Structure::Guards), &spec)?;
     let dir = Path::new("out/asteroid_field");
     write_run(dir, &scene, &output)?;
     println!("asteroid field: {}", output.summary());

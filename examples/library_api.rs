@@ -12,7 +12,7 @@ fn main() -> Result<(), WorldError> {
         WorldKind::Free,
         Response::Elastic,
         Some(walls),
-        Box::new(kinetic_collide::BruteForce::new()),
+        kinetic_collide::Structure::BruteForce,
     )?;
     let cue = world.add_ball(
         0.5,

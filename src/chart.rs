@@ -37,20 +37,67 @@ fn font() -> Result<(), String> {
 /// Errors below this are drawn on the axis floor (kinetic structures are exact: 0).
 const ERROR_FLOOR: f64 = 1e-10;
 
-/// The colour of a method.
-fn colour(method: &str) -> RGBColor {
-    match method {
-        "stepped" => RGBColor(31, 119, 180),
-        "rapier" => RGBColor(214, 39, 40),
-        "rapier+ccd" => RGBColor(255, 127, 14),
-        "rapier+kinetic" => RGBColor(44, 160, 44),
-        "brute-force" => RGBColor(90, 90, 90),
-        "guards" => RGBColor(140, 86, 75),
-        "grid" => RGBColor(227, 119, 194),
-        "rolling-global-lists" => RGBColor(188, 189, 34),
-        _ => RGBColor(148, 103, 189),
-    }
+/// Every method the chart may show, each with a colour and a marker of its own (the
+/// kinetic structures first, then the time-stepped methods).
+const METHODS: [(&str, RGBColor, Marker); 13] = [
+    ("rolling-tree", RGBColor(148, 103, 189), Marker::Circle),
+    ("rolling-global-lists", RGBColor(188, 189, 34), Marker::Square),
+    ("sweep", RGBColor(23, 190, 207), Marker::Triangle),
+    ("guards", RGBColor(140, 86, 75), Marker::Diamond),
+    ("grid", RGBColor(227, 119, 194), Marker::Square),
+    ("loose-grid", RGBColor(0, 90, 50), Marker::Circle),
+    ("cells", RGBColor(120, 60, 160), Marker::Triangle),
+    ("periodic", RGBColor(60, 60, 160), Marker::Diamond),
+    ("brute-force", RGBColor(90, 90, 90), Marker::Cross),
+    ("stepped", RGBColor(31, 119, 180), Marker::Circle),
+    ("rapier", RGBColor(214, 39, 40), Marker::Square),
+    ("rapier+ccd", RGBColor(255, 127, 14), Marker::Triangle),
+    ("rapier+kinetic", RGBColor(44, 160, 44), Marker::Diamond),
+];
+
+/// A point's shape.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Marker {
+    Circle,
+    Square,
+    Triangle,
+    Diamond,
+    Cross,
 }
+
+/// The colour and marker of a method (black circles for one the chart does not know).
+fn style(method: &str) -> (RGBColor, Marker) {
+    METHODS
+        .iter()
+        .find(|(m, ..)| *m == method)
+        .map_or((BLACK, Marker::Circle), |&(_, c, k)| (c, k))
+}
+
+/// Draws `marker` in colour `c` centred at pixel `(x, y)` of `area`.
+fn draw_marker<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    (x, y): (i32, i32),
+    marker: Marker,
+    c: RGBColor,
+) -> Result<(), String> {
+    let fill = c.filled();
+    let r = 5;
+    let result = match marker {
+        Marker::Circle => area.draw(&Circle::new((x, y), r, fill)),
+        Marker::Square => area.draw(&Rectangle::new([(x - r + 1, y - r + 1), (x + r - 1, y + r - 1)], fill)),
+        Marker::Triangle => area.draw(&Polygon::new(vec![(x, y - r - 1), (x - r, y + r - 1), (x + r, y + r - 1)], fill)),
+        Marker::Diamond => area.draw(&Polygon::new(vec![(x, y - r - 1), (x + r, y), (x, y + r + 1), (x - r, y)], fill)),
+        Marker::Cross => {
+            let s = c.stroke_width(2);
+            area.draw(&PathElement::new(vec![(x - r, y - r), (x + r, y + r)], s))
+                .and_then(|()| area.draw(&PathElement::new(vec![(x - r, y + r), (x + r, y - r)], s)))
+        }
+    };
+    result.map_err(|e| e.to_string())
+}
+
+/// Height of the legend strip above each scene's panels, in pixels.
+const LEGEND_HEIGHT: u32 = 34;
 
 /// Draws the chart for `rows` (in scene order) to a PNG at `path`.
 pub fn draw(rows: &[Row], path: &Path) -> Result<(), String> {
@@ -64,16 +111,19 @@ pub fn draw(rows: &[Row], path: &Path) -> Result<(), String> {
     if scenes.is_empty() {
         return Err("nothing to chart".into());
     }
-    let (w, h) = (1400u32, 380 * scenes.len() as u32);
+    let (w, h) = (1400u32, (380 + LEGEND_HEIGHT) * scenes.len() as u32);
     let mut rgb = vec![255u8; (w * h * 3) as usize];
     {
         let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| e.to_string())?;
-        let panels = root.split_evenly((scenes.len(), 2));
+        let rows_of = root.split_evenly((scenes.len(), 1));
         for (k, scene) in scenes.iter().enumerate() {
             let mine: Vec<&Row> = rows.iter().filter(|r| r.scene == *scene).collect();
-            panel(&panels[2 * k], scene, &mine, Axis::Missed).map_err(|e| e.to_string())?;
-            panel(&panels[2 * k + 1], scene, &mine, Axis::Error).map_err(|e| e.to_string())?;
+            let (strip, panels) = rows_of[k].split_vertically(LEGEND_HEIGHT);
+            legend(&strip, &mine)?;
+            let halves = panels.split_evenly((1, 2));
+            panel(&halves[0], scene, &mine, Axis::Missed).map_err(|e| e.to_string())?;
+            panel(&halves[1], scene, &mine, Axis::Error).map_err(|e| e.to_string())?;
         }
         root.present().map_err(|e| e.to_string())?;
     }
@@ -84,6 +134,63 @@ pub fn draw(rows: &[Row], path: &Path) -> Result<(), String> {
     Frame::new(w, h, rgba)
         .save_png(path)
         .map_err(|e| e.to_string())
+}
+
+/// The legend of one scene's methods, in a strip of its own above its panels (never over
+/// the data): each method's marker and name, in the order they first appear.
+fn legend(strip: &Area, rows: &[&Row]) -> Result<(), String> {
+    let mut x = 76;
+    let mut seen: Vec<&str> = Vec::new();
+    for r in rows {
+        if seen.contains(&r.method) {
+            continue;
+        }
+        seen.push(r.method);
+        let (c, m) = style(r.method);
+        draw_marker(strip, (x, 20), m, c)?;
+        let name = if r.default {
+            format!("{} (default)", r.method)
+        } else {
+            r.method.to_string()
+        };
+        let width = 7 * name.len() as i32;
+        strip
+            .draw(&Text::new(name, (x + 9, 13), ("sans-serif", 13).into_font().color(&c)))
+            .map_err(|e| e.to_string())?;
+        x += width + 30;
+    }
+    Ok(())
+}
+
+/// Pixel rectangles of the labels placed so far in a panel, to keep new ones off them.
+#[derive(Default)]
+struct Placed(Vec<(i32, i32, i32, i32)>);
+
+impl Placed {
+    /// Where a label `width` x `height` pixels goes beside the point at pixel `p`: the first
+    /// of right, left, above and below that meets no label already placed and no point
+    /// (each point is a 12-pixel box); `None` when all four do, and the label is left out.
+    fn place(&mut self, p: (i32, i32), width: i32, height: i32, points: &[(i32, i32)]) -> Option<(i32, i32)> {
+        let tries = [
+            (p.0 + 8, p.1 - height / 2),
+            (p.0 - 8 - width, p.1 - height / 2),
+            (p.0 - width / 2, p.1 - 8 - height),
+            (p.0 - width / 2, p.1 + 8),
+        ];
+        let meets = |a: (i32, i32, i32, i32), b: (i32, i32, i32, i32)| {
+            a.0 < b.2 && b.0 < a.2 && a.1 < b.3 && b.1 < a.3
+        };
+        for (x, y) in tries {
+            let rect = (x, y, x + width, y + height);
+            let clear = self.0.iter().all(|&r| !meets(r, rect))
+                && points.iter().all(|&(px, py)| !meets((px - 6, py - 6, px + 6, py + 6), rect));
+            if clear {
+                self.0.push(rect);
+                return Some((x, y));
+            }
+        }
+        None
+    }
 }
 
 /// An axis label: plain for tenths, powers of ten otherwise.
@@ -131,7 +238,6 @@ fn panel(
         .margin(12)
         .x_label_area_size(36)
         .y_label_area_size(64);
-    let mut legend_done = std::collections::BTreeSet::new();
     macro_rules! body {
         ($chart:expr, $xdesc:expr) => {{
             let mut chart = $chart;
@@ -143,39 +249,33 @@ fn panel(
                 .x_label_formatter(&|x: &f64| short(*x))
                 .y_label_formatter(&|y: &f64| short(*y))
                 .draw()?;
-            for r in rows {
-                let x = x_of(r);
-                if x.is_nan() {
-                    continue;
+            let shown: Vec<(&Row, (i32, i32))> = rows
+                .iter()
+                .filter(|r| !x_of(r).is_nan())
+                .map(|r| (*r, chart.backend_coord(&(x_of(r), r.wall_seconds.max(1e-5)))))
+                .collect();
+            let points: Vec<(i32, i32)> = shown.iter().map(|(_, p)| *p).collect();
+            let root = chart.plotting_area().strip_coord_spec();
+            let (dx, dy) = root.get_base_pixel();
+            let mut placed = Placed::default();
+            for &(r, (px, py)) in &shown {
+                let (c, m) = style(r.method);
+                let at = (px - dx, py - dy);
+                draw_marker(&root, at, m, c)?;
+                if r.default {
+                    root.draw(&Circle::new(at, 9, c.stroke_width(2)))?;
                 }
-                let c = colour(r.method);
-                let p = (x, r.wall_seconds.max(1e-5));
-                let label = if r.default {
-                    format!("{} (default)", r.method)
-                } else if r.step == "exact" {
-                    r.method.to_string()
-                } else {
-                    r.step.clone()
-                };
-                let font = ("sans-serif", 12).into_font().color(&c);
-                let point = EmptyElement::at(p)
-                    + Circle::new((0, 0), 5, c.filled())
-                    + Text::new(label, (7, -4), font);
-                let series = chart.draw_series(std::iter::once(point))?;
-                if axis == Axis::Missed && legend_done.insert(r.method) {
-                    series
-                        .label(r.method)
-                        .legend(move |(x, y)| Circle::new((x, y), 5, c.filled()));
+                // The stepped methods' points say their step; the exact ones are named by
+                // the legend.
+                if r.step != "exact" {
+                    let label = r.step.clone();
+                    let width = 7 * label.len() as i32;
+                    let local: Vec<(i32, i32)> = points.iter().map(|&(x, y)| (x - dx, y - dy)).collect();
+                    if let Some(spot) = placed.place(at, width, 12, &local) {
+                        let font = ("sans-serif", 12).into_font().color(&c);
+                        root.draw(&Text::new(label, spot, font))?;
+                    }
                 }
-            }
-            if axis == Axis::Missed {
-                chart
-                    .configure_series_labels()
-                    .background_style(WHITE.mix(0.85))
-                    .border_style(BLACK)
-                    .label_font(("sans-serif", 13))
-                    .position(SeriesLabelPosition::UpperMiddle)
-                    .draw()?;
             }
         }};
     }

@@ -8,8 +8,9 @@
 //! from the exact one.
 
 use crate::rapier_run::{Broad, run_rapier};
-use crate::stepped::run_stepped;
-use kinetic_collide::run::{RunError, StructureName, run_scene};
+use crate::time_stepped::run_stepped;
+use kinetic_collide::run::{RunError, run_scene};
+use kinetic_collide::Structure;
 use kinetic_collide::scene::Scene;
 use kinetic_core::{ContactEvent, ContactKind, Real, Response};
 use kinetic_scenes::families::{Case, Family};
@@ -28,7 +29,7 @@ pub const STEPS: [(u32, Real); 5] = [
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Method {
     /// A kinetic structure, exact.
-    Kinetic(StructureName),
+    Kinetic(Structure),
     /// Overlap tests at every step, pairs from a per-step sweep-and-prune.
     Stepped(Real),
     /// rapier 0.27's pipeline with the given broad phase and CCD on or off.
@@ -47,7 +48,7 @@ impl Method {
     /// "rapier+kinetic").
     pub fn name(&self) -> &'static str {
         match self {
-            Method::Kinetic(s) => s.as_str(),
+            Method::Kinetic(s) => s.name(),
             Method::Stepped(_) => "stepped",
             Method::Rapier {
                 broad: Broad::Default,
@@ -95,9 +96,8 @@ impl Method {
     /// and, when objects pass through each other (response `"none"`, so every method follows
     /// the same motion), time-stepped detection and rapier at each of [`STEPS`].
     pub fn applicable(scene: &Scene) -> Vec<Method> {
-        let mut methods: Vec<Method> = StructureName::ALL
-            .iter()
-            .map(|&(_, s)| s)
+        let mut methods: Vec<Method> = Structure::ALL
+            .into_iter()
             .filter(|s| s.applies_to(scene))
             .map(Method::Kinetic)
             .collect();
@@ -344,9 +344,9 @@ fn run_method(scene: &Scene, method: Method) -> (Vec<ContactEvent>, Real, Option
 pub fn compare_scene(scene: &NamedScene, mut progress: impl FnMut(&Row)) -> Vec<Row> {
     let s = &scene.scene;
     let reference = if s.periodic.is_some() {
-        StructureName::Periodic
+        Structure::Periodic
     } else {
-        StructureName::BruteForce
+        Structure::BruteForce
     };
     let (exact, _, exact_error) = run_method(s, Method::Kinetic(reference));
     let mut rows = Vec::new();
@@ -367,7 +367,7 @@ pub fn compare_scene(scene: &NamedScene, mut progress: impl FnMut(&Row)) -> Vec<
             scene: scene.name.clone(),
             objects: s.objects.len(),
             method: method.name(),
-            default: method == Method::Kinetic(kinetic_collide::run::choose_structure(s)),
+            default: method == Method::Kinetic(kinetic_collide::Structure::for_scene(s)),
             step: method.step_label(),
             wall_seconds: wall,
             contacts: acc.contacts,

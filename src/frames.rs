@@ -6,11 +6,10 @@
 //! instants). Optional overlays show what the structure is doing ([`Overlay`]).
 
 use glam::Vec3 as F3;
-use kinetic_collide::run::{
-    RunError, RunOutput, Stream, StructureName, holding_events, run_scene_streamed,
-};
+use kinetic_collide::run::{RunError, RunOutput, Stream, holding_events, run_scene_streamed};
+use kinetic_collide::Structure;
 use kinetic_collide::scene::{Scene, ShapeSpec};
-use kinetic_core::{World, WorldKind};
+use kinetic_collide::{World, WorldKind};
 use kinetic_render::{AdapterChoice, Camera, HullMesh, Instance, RenderError, Renderer, Snapshot};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -237,7 +236,7 @@ fn add_plane(snapshots: &mut [Snapshot]) {
 /// its events included, is exactly what [`kinetic_collide::run::run_scene`] gives.
 pub fn run_with_snapshots(
     scene: &Scene,
-    structure: Option<StructureName>,
+    structure: Option<Structure>,
     spec: &FrameSpec,
 ) -> Result<(RunOutput, Vec<Snapshot>), RunError> {
     holding_events(|stream| run_with_snapshots_streamed(scene, structure, spec, stream))
@@ -247,7 +246,7 @@ pub fn run_with_snapshots(
 /// them.
 pub fn run_with_snapshots_streamed(
     scene: &Scene,
-    structure: Option<StructureName>,
+    structure: Option<Structure>,
     spec: &FrameSpec,
     stream: &mut Stream<'_>,
 ) -> Result<(RunOutput, Vec<Snapshot>), RunError> {

@@ -12,4 +12,4 @@ pub mod frames;
 pub mod output;
 pub mod process;
 pub mod rapier_run;
-pub mod stepped;
+pub mod time_stepped;

@@ -3,7 +3,8 @@
 use clap::builder::PossibleValuesParser;
 use clap::{Parser, Subcommand};
 use kinetic_collide::ContactEvent;
-use kinetic_collide::run::{RunError, Stream, StructureName, push_event_line};
+use kinetic_collide::run::{RunError, Stream, push_event_line};
+use kinetic_collide::Structure;
 use kinetic_collide::scene::Scene;
 use kinetic_collide_cli::frames::{
     FrameSpec, Overlay, render_series, run_with_snapshots, run_with_snapshots_streamed, write_run,
@@ -42,7 +43,7 @@ enum Command {
         #[arg(long)]
         stats: Option<PathBuf>,
         /// The kinetic structure (default: the fastest for the scene, chosen from it).
-        #[arg(long, value_name = "NAME", value_parser = PossibleValuesParser::new(StructureName::ALL.map(|(name, _)| name)))]
+        #[arg(long, value_name = "NAME", value_parser = PossibleValuesParser::new(Structure::ALL.map(Structure::name)))]
         structure: Option<String>,
         /// Also render N frames at even times over the horizon, as PNG.
         #[arg(long, value_name = "N", default_value_t = 0)]
@@ -211,9 +212,19 @@ fn run_file(
     frames: Frames,
 ) -> Result<(), Failure> {
     let structure = structure
-        .map(StructureName::parse)
-        .transpose()
-        .map_err(|e| (2, e.to_string()))?;
+        .map(|name| {
+            Structure::from_name(name).ok_or_else(|| {
+                let names: Vec<&str> = Structure::ALL.map(Structure::name).to_vec();
+                (
+                    2,
+                    format!(
+                        "--structure: unknown structure {name:?} (expected one of: {})",
+                        names.join(", ")
+                    ),
+                )
+            })
+        })
+        .transpose()?;
     let from_stdin = output::is_dash(path);
     let shown = if from_stdin {
         "standard input".to_string()

@@ -8,7 +8,7 @@
 //! such pairs between non-sensor colliders whose contacts are not solved: see its
 //! `ccd_solver.rs`, "For now we just ignore this special case".)
 
-use crate::stepped::log_changes;
+use crate::time_stepped::log_changes;
 use kinetic_collide::scene::{Scene, ShapeSpec};
 use kinetic_core::{ContactEvent, ContactKind, ObjectId, Real};
 use kinetic_rapier::KineticBroadPhase;

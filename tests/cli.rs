@@ -684,7 +684,7 @@ fn run_help_names_every_structure() {
         .split_whitespace()
         .collect::<Vec<_>>()
         .join(" ");
-    for (name, _) in kinetic_collide::run::StructureName::ALL {
+    for name in kinetic_collide::Structure::ALL.map(kinetic_collide::Structure::name) {
         assert!(
             help.contains(name),
             "`run --help` does not name {name}: {help}"

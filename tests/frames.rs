@@ -182,7 +182,7 @@ fn a_highlighted_contact_appears_where_its_projection_says() {
     assert!(!contact(first.pixel(px as u32, py as u32).unwrap()));
     // The painter draws every object once.
     let painter = Painter::new(&scene, Overlay::Boxes);
-    let sweep = Some(kinetic_collide::run::StructureName::Sweep);
+    let sweep = Some(kinetic_collide::Structure::Sweep);
     let (world, _) = kinetic_collide::run::build_world(&scene, sweep).unwrap();
     let s = painter.snapshot(&world, &[false; 4]);
     assert_eq!(s.instances.len(), 4);

@@ -163,7 +163,7 @@ fn generate_takes_any_ratio_in_its_range() {
         );
         assert_eq!(code, 0, "{ratio}: {err}");
         let text = std::fs::read_to_string(&out).unwrap();
-        let scene = kinetic_collide::Scene::from_json(&text).unwrap();
+        let scene = kinetic_collide::scene::Scene::from_json(&text).unwrap();
         assert_eq!(scene.objects.len(), 100);
     }
     // Spheres too small for f64's arithmetic: refused, not written.

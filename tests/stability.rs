@@ -3,25 +3,26 @@
 //! `World::validate` after every event against the brute force, and checks the case's own
 //! claim; where it shows how a time-stepped method fails, it asserts that too.
 
-use kinetic_collide::run::{StructureName, build_world, run_scene};
+use kinetic_collide::run::{build_world, run_scene};
+use kinetic_collide::Structure;
 use kinetic_collide::scene::Scene;
-use kinetic_collide::{BruteForce, ContactEvent, ContactKind, World, WorldError};
+use kinetic_collide::{ContactEvent, ContactKind, World, WorldError};
 use kinetic_collide_cli::compare::score;
-use kinetic_collide_cli::stepped::run_stepped;
+use kinetic_collide_cli::time_stepped::run_stepped;
 use kinetic_scenes::families::{Case, Family};
 
 use kinetic_scenes::audit::{assert_same_contacts, run_audited as audited};
 
-const FREE: [StructureName; 3] = [
-    StructureName::Sweep,
-    StructureName::Guards,
-    StructureName::Grid,
+const FREE: [Structure; 3] = [
+    Structure::Sweep,
+    Structure::Guards,
+    Structure::Grid,
 ];
 
 /// Every structure gives the brute force's contacts (per pair the same kinds in the same
 /// order, times within the scene format's 1e-7 * max(1, |t|)); returns the brute force's log.
 fn same_log_everywhere(scene: &Scene) -> Vec<ContactEvent> {
-    let reference = audited(scene, StructureName::BruteForce);
+    let reference = audited(scene, Structure::BruteForce);
     for s in FREE {
         assert_same_contacts(&reference, &audited(scene, s), &format!("{s:?}"));
     }
@@ -123,7 +124,7 @@ fn offset_case(case: Case, shift: f64, tolerance: f64) {
     for o in &mut plain.objects {
         o.position -= glam::DVec3::splat(shift);
     }
-    let want = run_scene(&plain, Some(StructureName::BruteForce))
+    let want = run_scene(&plain, Some(Structure::BruteForce))
         .unwrap()
         .events;
     assert_eq!(log.len(), want.len());
@@ -198,7 +199,7 @@ fn long_run_of_1e7_events_without_drift() {
         let cell = glam::DVec3::new((i % 8) as f64, ((i / 8) % 8) as f64, (i / 64) as f64);
         o.position = cell * 2.6 + glam::DVec3::splat(1.5);
     }
-    let (mut world, _) = build_world(&scene, Some(StructureName::Sweep)).unwrap();
+    let (mut world, _) = build_world(&scene, Some(Structure::Sweep)).unwrap();
     let mut t = 0.0;
     let mut k = 0u32;
     let mut windows = 0;
@@ -214,7 +215,7 @@ fn long_run_of_1e7_events_without_drift() {
                 scene.world,
                 scene.response,
                 scene.walls,
-                Box::new(BruteForce::new()),
+                Structure::BruteForce,
             )
             .unwrap();
             fresh.advance_to(t).unwrap();
@@ -253,7 +254,7 @@ fn zeno_trap_ends_with_bounded_work() {
     // has pushed them apart. Every structure gives the brute force's log, the run ends (no
     // hang) with a bounded number of collisions, and the giants leave moving apart.
     let scene = Case::Zeno.scene();
-    let reference = run_scene(&scene, Some(StructureName::BruteForce));
+    let reference = run_scene(&scene, Some(Structure::BruteForce));
     match &reference {
         Ok(out) => {
             assert!(out.events.len() < 1_000_000, "{}", out.events.len());
@@ -261,7 +262,7 @@ fn zeno_trap_ends_with_bounded_work() {
                 let got = run_scene(&scene, Some(s)).unwrap();
                 assert_eq!(got.events, out.events, "{s:?}");
             }
-            let (mut world, _) = build_world(&scene, Some(StructureName::Sweep)).unwrap();
+            let (mut world, _) = build_world(&scene, Some(Structure::Sweep)).unwrap();
             world.advance_to(scene.horizon).unwrap();
             let v = |i: usize| world.bodies()[i].as_ref().unwrap().plan.velocity_at(2.0).x;
             assert!(v(0) < 0.0 && v(2) > 0.0, "giants at {} and {}", v(0), v(2));

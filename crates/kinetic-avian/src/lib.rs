@@ -51,13 +51,13 @@ use core::marker::PhantomData;
 use kinetic_broad::{BroadPhaseCore, Key, PairEvent};
 use std::collections::{HashMap, HashSet};
 
-pub use kinetic_broad::{BroadPhaseStats, Choice, StepStats};
+pub use kinetic_broad::{BroadPhaseStats, StepStats};
 
 /// The avian plugin: add it with avian's `BvhBroadPhasePlugin` disabled (the crate docs show
 /// how). `H`: the collision hooks whose `filter_pairs` applies, as with avian's own broad
 /// phase.
 pub struct KineticBroadPhasePlugin<H: CollisionHooks = ()> {
-    choice: Option<Choice>,
+    loose_grid: Option<bool>,
     audit: bool,
     hooks: PhantomData<H>,
 }
@@ -65,7 +65,7 @@ pub struct KineticBroadPhasePlugin<H: CollisionHooks = ()> {
 impl<H: CollisionHooks> Default for KineticBroadPhasePlugin<H> {
     fn default() -> Self {
         KineticBroadPhasePlugin {
-            choice: None,
+            loose_grid: None,
             audit: false,
             hooks: PhantomData,
         }
@@ -81,10 +81,11 @@ impl KineticBroadPhasePlugin {
 }
 
 impl<H: CollisionHooks> KineticBroadPhasePlugin<H> {
-    /// The same plugin with the structure chosen by the caller (by default it is picked from
-    /// the first colliders' sizes).
-    pub fn with_structure(mut self, choice: Choice) -> Self {
-        self.choice = Some(choice);
+    /// The same plugin with its proxies in the structure the caller chose, the loose grid
+    /// (`loose`) or the hierarchical grid (by default it is picked from the first colliders'
+    /// sizes).
+    pub fn with_loose_grid(mut self, loose: bool) -> Self {
+        self.loose_grid = Some(loose);
         self
     }
 
@@ -102,8 +103,8 @@ where
 {
     fn build(&self, app: &mut App) {
         let mut core = BroadPhaseCore::new();
-        if let Some(choice) = self.choice {
-            core = core.with_structure(choice);
+        if let Some(loose) = self.loose_grid {
+            core = core.with_loose_grid(loose);
         }
         if self.audit {
             core = core.with_audit();

@@ -8,7 +8,7 @@ use avian3d::prelude::*;
 use bevy::ecs::entity::EntityGeneration;
 use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
-use kinetic_broad::{BodyState, Engine, Hold, Key, Seen, Slack, Step};
+use kinetic_broad::{BodyState, Engine, Bound, Key, ColliderStatus, Slack, EngineStep};
 use kinetic_core::{Real, Vec3};
 
 /// An entity as a key: its index and generation.
@@ -92,8 +92,8 @@ pub(crate) struct ColliderView<'a> {
 
 impl AvianWorld<'_, '_> {
     /// The step: avian's physics time step and its substeps.
-    pub(crate) fn step(&self) -> Step {
-        Step {
+    pub(crate) fn step(&self) -> EngineStep {
+        EngineStep {
             dt: self.time.delta_secs_f64() as Real,
             substeps: self.substeps.0.max(1) as Real,
         }
@@ -129,15 +129,15 @@ impl AvianWorld<'_, '_> {
 }
 
 impl Engine for AvianWorld<'_, '_> {
-    fn collider(&self, c: Key, slack: Slack) -> Seen {
+    fn collider(&self, c: Key, slack: Slack) -> ColliderStatus {
         let Some(e) = entity(c) else {
-            return Seen::Missing;
+            return ColliderStatus::Missing;
         };
         let Ok((collider, pos, rot, _, of, margin, _, disabled)) = self.colliders.get(e) else {
-            return Seen::Missing;
+            return ColliderStatus::Missing;
         };
         if disabled {
-            return Seen::Disabled;
+            return ColliderStatus::Disabled;
         }
         let margin = self.margin(margin);
         let moving = of
@@ -146,7 +146,7 @@ impl Engine for AvianWorld<'_, '_> {
         match moving {
             None => {
                 let aabb = collider.aabb(pos.0, *rot, 0.0);
-                Seen::Held(Hold::fixed(dvec!(aabb.min), dvec!(aabb.max), margin))
+                ColliderStatus::Held(Bound::fixed(dvec!(aabb.min), dvec!(aabb.max), margin))
             }
             Some((body, (_, bpos, brot, com, ..))) => {
                 let centre = dvec!(bpos.0) + dvec!(brot.0 * com.0);
@@ -157,7 +157,7 @@ impl Engine for AvianWorld<'_, '_> {
                     min: slack.min * self.length_unit.0 as Real,
                     ..slack
                 };
-                Seen::Held(Hold::moving(key(body), reach, margin, slack))
+                ColliderStatus::Held(Bound::moving(key(body), reach, margin, slack))
             }
         }
     }

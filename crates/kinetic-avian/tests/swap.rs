@@ -7,7 +7,7 @@ mod common;
 use avian3d::prelude::*;
 use bevy::prelude::*;
 use common::*;
-use kinetic_avian::{Choice, KineticBroadPhasePlugin};
+use kinetic_avian::KineticBroadPhasePlugin;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -53,7 +53,7 @@ fn kinematic_scene(app: &mut App, seed: u64, n: usize) {
 fn kinematic_bodies_touch_as_with_avians_broad_phase() {
     // The plugin as it comes (a crowd flying through each other steps) and held to the loose
     // grid (kinetic throughout).
-    let kinetic_loose = Broad::Structure(Choice::Loose);
+    let kinetic_loose = Broad::LooseGrid(true);
     for (seed, broad) in [(1, Broad::Kinetic), (2, Broad::Kinetic), (1, kinetic_loose)] {
         let (mut ours, mut theirs) = (app(broad), app(Broad::Default));
         kinematic_scene(&mut ours, seed, 120);
@@ -314,10 +314,10 @@ fn app_with_hooks(broad: Broad) -> App {
                 .disable::<BvhBroadPhasePlugin<GhostHooks>>()
                 .add(KineticBroadPhasePlugin::<GhostHooks>::default().with_audit()),
         ),
-        Broad::Structure(choice) => app.add_plugins(
+        Broad::LooseGrid(loose) => app.add_plugins(
             physics.disable::<BvhBroadPhasePlugin<GhostHooks>>().add(
                 KineticBroadPhasePlugin::<GhostHooks>::default()
-                    .with_structure(choice)
+                    .with_loose_grid(loose)
                     .with_audit(),
             ),
         ),

@@ -1,6 +1,6 @@
 //! What the broad phase asks of a physics engine, and what it hands back.
 
-use crate::{Hold, Slack};
+use crate::{Bound, Slack};
 use kinetic_core::{Real, Vec3};
 
 /// An engine's key for a collider or a body: a dense index that the engine may reuse once the
@@ -23,13 +23,13 @@ impl Key {
 
 /// What the engine says of a collider the broad phase asks about.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Seen {
+pub enum ColliderStatus {
     /// The engine has no such collider (it was removed and its removal comes later).
     Missing,
     /// The collider is there but takes no part in collisions: it is dropped.
     Disabled,
-    /// The collider and how it is held now ([`Hold::moving`] or [`Hold::fixed`]).
-    Held(Hold),
+    /// The collider and how it is held now ([`Bound::moving`] or [`Bound::fixed`]).
+    Held(Bound),
 }
 
 /// A moving body as the engine has it now.
@@ -46,7 +46,7 @@ pub struct BodyState {
 /// The engine's view of its colliders and bodies, asked during an update.
 pub trait Engine {
     /// How collider `c` is held now, with `slack` for a moving body.
-    fn collider(&self, c: Key, slack: Slack) -> Seen;
+    fn collider(&self, c: Key, slack: Slack) -> ColliderStatus;
     /// Body `b`'s state, or `None` if the engine has no such body.
     fn body(&self, b: Key) -> Option<BodyState>;
     /// Body `b`'s centre of mass and linear velocity, as [`Engine::body`] gives them: all a
@@ -63,7 +63,7 @@ pub trait Engine {
         out.extend(bodies.iter().map(|&b| self.motion(b)));
     }
     /// Collider `c`'s axis-aligned box now, `(min, max)`, grown by the same margins as its
-    /// [`Hold`]. An engine that gives it lets bodies in contact be held by fat boxes (see
+    /// [`Bound`]. An engine that gives it lets bodies in contact be held by fat boxes (see
     /// the crate docs); the default, `None`, keeps every moving body on a flight plan.
     fn bounds(&self, c: Key) -> Option<(Vec3, Vec3)> {
         let _ = c;
@@ -73,11 +73,11 @@ pub trait Engine {
 
 /// The engine's step.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Step {
+pub struct EngineStep {
     /// Its length in time.
     pub dt: Real,
     /// How many substeps its integrator splits it into (1 for none): the plans are fitted
-    /// to that integrator ([`crate::fit`]).
+    /// to that integrator ([`crate::fit_plan`]).
     pub substeps: Real,
 }
 

@@ -26,7 +26,8 @@
 //! or costing more, are tried again only after [`FIRST_WAIT`] calls, then twice as many each
 //! time they fail, up to [`LAST_WAIT`].
 
-use crate::stepped::{Aabb, Small, SteppedGrid, overlap, overlapping, small};
+use crate::aabb::{Aabb, AabbF32, overlap, overlapping, to_f32};
+use crate::stepped::SteppedGrid;
 use kinetic_core::{Real, Vec3};
 
 /// A fat box covers at least this many steps of its box's move...
@@ -97,7 +98,7 @@ pub(crate) struct FatPairs {
     found: Vec<u32>,
     merged: Vec<(u32, u32)>,
     /// Scratch: each box swept and rounded as the grid tests a pair.
-    rounded: Vec<Option<Small>>,
+    rounded: Vec<Option<AabbF32>>,
     /// How many times the fat boxes were filed afresh, boxes re-fattened on their own, and
     /// calls.
     pub(crate) rebuilds: u64,
@@ -153,7 +154,7 @@ impl FatPairs {
             // kinematic bodies at 1e3 a tenth more.
             self.rounded.clear();
             self.rounded
-                .extend(boxes.iter().map(|b| b.map(|b| small(&b.0))));
+                .extend(boxes.iter().map(|b| b.map(|b| to_f32(&b.0))));
             for &(a, b) in &self.candidates {
                 if let (Some(x), Some(y)) = (&self.rounded[a as usize], &self.rounded[b as usize])
                     && overlap(x, y)
@@ -397,7 +398,7 @@ fn fatten(((lo, hi), d): (Aabb, Vec3), steps: Real) -> Aabb {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::stepped::tests::{next, next_vec};
+    use crate::aabb::{next, next_vec};
 
     /// One call of `kept` against the pairs the grid finds afresh from the same boxes swept
     /// in `frame`: the same pairs, of which it returns how many.
@@ -533,7 +534,7 @@ mod tests {
         );
     }
 
-    /// Small boxes flying apart with few pairs among them: after a filing that found few
+    /// AabbF32 boxes flying apart with few pairs among them: after a filing that found few
     /// candidates, fat boxes cover more steps (fewer filings), and the kept pairs are still
     /// the grid's own every call.
     #[test]

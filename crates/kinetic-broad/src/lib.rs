@@ -7,7 +7,7 @@
 //! (a plugin for avian3d 0.8) each implement [`Engine`] over their engine's sets and turn
 //! [`PairEvent`]s into its pair events.
 //!
-//! - [`Hold`]: how a collider is held (a ball about a moving body's centre of mass with a
+//! - [`Bound`]: how a collider is held (a ball about a moving body's centre of mass with a
 //!   slack, or a fixed collider's box). A body at rest is held by a fat box about each of its
 //!   colliders' own boxes instead, where the engine gives them ([`Engine::bounds`]).
 //! - [`BroadPhaseCore`]: the proxies, the bodies' plans (a body that stays within its slack
@@ -24,16 +24,16 @@
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
+mod aabb;
 mod engine;
 mod fat_pairs;
-mod hold;
+mod bound;
 mod motions;
 mod pairs;
 mod phase;
 mod stepped;
-mod sweep;
+mod sort_and_sweep;
 
-pub use engine::{BodyState, Engine, Key, PairEvent, Seen, Step};
-pub use hold::{Hold, Slack, fit};
-pub use kinetic_flight::Choice;
+pub use engine::{BodyState, Engine, Key, PairEvent, ColliderStatus, EngineStep};
+pub use bound::{Bound, Slack, fit_plan};
 pub use phase::{BroadPhaseCore, BroadPhaseStats, StepStats};

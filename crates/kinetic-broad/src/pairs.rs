@@ -415,7 +415,7 @@ fn swept_box(body: &Body, t0: Real, t1: Real) -> (Vec3, Vec3) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::stepped::tests::{next, next_vec};
+    use crate::aabb::{next, next_vec};
     use kinetic_core::FlightPlan;
     use kinetic_flight::ConvexShape;
 

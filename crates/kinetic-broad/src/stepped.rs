@@ -29,9 +29,10 @@
 //! swept instead ([`crate::sweep`]): below a few hundred boxes a grid's fixed costs outweigh
 //! its few tests.
 
-use crate::sweep::Sweep;
+use crate::aabb::{Aabb, AabbF32, overlap, to_f32, width};
+use crate::sort_and_sweep::SortAndSweep;
 use glam::Vec3A;
-use kinetic_core::{Real, Vec3, floor_int};
+use kinetic_core::floor_int;
 
 /// A box at most this many times the median box's widest side is small...
 const SMALL: f32 = 2.0;
@@ -52,7 +53,7 @@ const INNER_FROM: usize = 32;
 const MEDIAN_EVERY: u32 = 16;
 /// A hashed table has about this many slots a box (a box is filed in up to eight cells).
 const HASHED_SLOTS: usize = 4;
-/// At most this many boxes are always sorted and swept ([`Sweep`]) rather than filed...
+/// At most this many boxes are always sorted and swept ([`SortAndSweep`]) rather than filed...
 const SWEEP_ALWAYS: usize = 256;
 /// ... up to this many while the sweep tests at most [`SWEEP_TESTS`] pairs a box (without
 /// this bound worlds of 1e4 bodies were within noise, and a sweep that gives up has sorted
@@ -64,13 +65,6 @@ const SWEEP_MOST: usize = 2048;
 const SWEEP_TESTS: usize = 16;
 /// ... and it is tried again this many calls after it tested more.
 const SWEEP_AGAIN: u32 = 64;
-
-/// An axis-aligned box `(min, max)`.
-pub(crate) type Aabb = (Vec3, Vec3);
-
-/// A box rounded outwards to single precision, `[min, max]`, in 16-byte vectors that one
-/// instruction compares.
-pub(crate) type Small = [Vec3A; 2];
 
 /// The grid's reused buffers.
 #[derive(Clone, Debug, Default)]
@@ -95,7 +89,7 @@ pub(crate) struct SteppedGrid {
     occupied: Vec<u32>,
     /// The small boxes' slots, then the small boxes (and their places) by slot.
     slots: Vec<(u32, u32)>,
-    sorted: Vec<(Small, u32)>,
+    sorted: Vec<(AabbF32, u32)>,
     /// This call's wide boxes, and each box's cell (`None`: wide).
     wide: Vec<u32>,
     cells: Vec<Option<[i64; 3]>>,
@@ -106,7 +100,7 @@ pub(crate) struct SteppedGrid {
     /// Whether it is the grid of another's wide boxes.
     nested_in: bool,
     /// This call's boxes and their ids.
-    boxes: Vec<Small>,
+    boxes: Vec<AabbF32>,
     ids: Vec<u32>,
     /// Scratch for the median.
     widths: Vec<f32>,
@@ -115,42 +109,11 @@ pub(crate) struct SteppedGrid {
     pair_scratch: Vec<(u32, u32)>,
     /// The sort and sweep, whether it gave this call's pairs, and the calls before it is
     /// tried again.
-    sweep: Sweep,
+    sweep: SortAndSweep,
     swept: bool,
     sweep_wait: u32,
     /// Never swept (the tests of the grid itself).
     no_sweep: bool,
-}
-
-/// Box `b` rounded outwards to single precision: each end moved out by more than half a
-/// single-precision step before it is rounded to the nearest.
-pub(crate) fn small(b: &Aabb) -> Small {
-    let out = |x: Vec3| x.abs() * (f32::EPSILON as Real) + f32::MIN_POSITIVE as Real;
-    let (lo, hi) = (b.0 - out(b.0), b.1 + out(b.1));
-    [
-        Vec3A::new(lo.x as f32, lo.y as f32, lo.z as f32),
-        Vec3A::new(hi.x as f32, hi.y as f32, hi.z as f32),
-    ]
-}
-
-/// Box `b`'s widest side (NaN for a box with a NaN side).
-fn width(b: &Small) -> f32 {
-    let w = b[1] - b[0];
-    if w.is_nan() {
-        return f32::NAN;
-    }
-    w.max_element()
-}
-
-/// Whether two boxes overlap (touching counts).
-pub(crate) fn overlap(a: &Small, b: &Small) -> bool {
-    a[0].cmple(b[1]).all() & b[0].cmple(a[1]).all()
-}
-
-/// Whether boxes `a` and `b` overlap as the grid finds them: rounded outwards to single
-/// precision, touching counting.
-pub(crate) fn overlapping(a: &Aabb, b: &Aabb) -> bool {
-    overlap(&small(a), &small(b))
 }
 
 impl SteppedGrid {
@@ -160,7 +123,7 @@ impl SteppedGrid {
     }
 
     /// The cell of box `b`'s centre.
-    fn centre_cell(&self, b: &Small) -> [i64; 3] {
+    fn centre_cell(&self, b: &AabbF32) -> [i64; 3] {
         self.cell_of(std::array::from_fn(|k| {
             (b[0][k] as f64 + b[1][k] as f64) / 2.0
         }))
@@ -183,14 +146,14 @@ impl SteppedGrid {
     }
 
     /// The boxes filed in slots `s..t`, for slots past the last none.
-    fn runs(&self, s: u32, t: u32) -> &[(Small, u32)] {
+    fn runs(&self, s: u32, t: u32) -> &[(AabbF32, u32)] {
         let last = self.mask as usize + 1;
         let (s, t) = ((s as usize).min(last), (t as usize).min(last));
         &self.sorted[self.starts[s] as usize..self.starts[t.max(s)] as usize]
     }
 
     /// The boxes filed in slot `s`.
-    fn run(&self, s: u32) -> &[(Small, u32)] {
+    fn run(&self, s: u32) -> &[(AabbF32, u32)] {
         self.runs(s, s + 1)
     }
 
@@ -206,13 +169,13 @@ impl SteppedGrid {
     /// Pushes onto `out` the ids of the last call's boxes that overlap `q` as the grid
     /// tests a pair (a box may come more than once).
     pub(crate) fn overlapping_with(&self, q: &Aabb, out: &mut Vec<u32>) {
-        self.query(&small(q), &mut |id| out.push(id));
+        self.query(&to_f32(q), &mut |id| out.push(id));
     }
 
     /// Calls `hit` with the id of each of the last call's boxes that overlaps `q` (a box may
     /// come more than once): the small boxes filed in the cells `q` reaches, and the wide
     /// ones from their own grid when they have one.
-    fn query(&self, q: &Small, hit: &mut dyn FnMut(u32)) {
+    fn query(&self, q: &AabbF32, hit: &mut dyn FnMut(u32)) {
         if self.swept {
             self.sweep
                 .query(&self.boxes, q, |j| hit(self.ids[j as usize]));
@@ -247,7 +210,7 @@ impl SteppedGrid {
     /// Calls `hit` with the place of each small box filed in the table that overlaps `q`
     /// (a box may come more than once): from the cells `q` reaches, or from every small box
     /// when those are more than [`WIDE_CELLS`].
-    fn filed_overlapping(&self, q: &Small, mut hit: impl FnMut(u32)) {
+    fn filed_overlapping(&self, q: &AabbF32, mut hit: impl FnMut(u32)) {
         // Dense: small boxes are filed by their centres, half a cell from their edges.
         let half = if self.dense.is_some() {
             0.5 / self.inv
@@ -259,7 +222,7 @@ impl SteppedGrid {
         let cells = (0..3)
             .map(|k| hi[k].saturating_sub(lo[k]).saturating_add(1).max(0))
             .fold(1i64, |p, x| p.saturating_mul(x));
-        let mut test = |run: &[(Small, u32)]| {
+        let mut test = |run: &[(AabbF32, u32)]| {
             for (b, j) in run {
                 if overlap(q, b) {
                     hit(*j);
@@ -308,7 +271,7 @@ impl SteppedGrid {
         self.ids.clear();
         for (id, b) in items {
             self.ids.push(id);
-            self.boxes.push(small(&b));
+            self.boxes.push(to_f32(&b));
         }
         self.find(keep, out);
         self.sort(out);
@@ -390,7 +353,7 @@ impl SteppedGrid {
             self.sweep_wait = self.sweep_wait.saturating_sub(1);
         }
         self.choose_cell();
-        // Small boxes and their slots; the others are wide (a NaN box too: it meets none).
+        // AabbF32 boxes and their slots; the others are wide (a NaN box too: it meets none).
         self.wide.clear();
         self.slots.clear();
         let limit = self.widest;
@@ -462,8 +425,8 @@ impl SteppedGrid {
         self.starts.copy_within(0..len, 1);
         self.starts[0] = 0;
         self.built = true;
-        // Small against small: within a cell, and with the cells after it.
-        let test = |a: &Small, i: u32, run: &[(Small, u32)], out: &mut Vec<(u32, u32)>| {
+        // AabbF32 against small: within a cell, and with the cells after it.
+        let test = |a: &AabbF32, i: u32, run: &[(AabbF32, u32)], out: &mut Vec<(u32, u32)>| {
             for (b, j) in run {
                 // A box whose cells hash alike is filed twice in a slot.
                 if overlap(a, b) && i != *j {
@@ -486,7 +449,7 @@ impl SteppedGrid {
                         t + slab - 1,
                         t + slab + row - 1,
                     ];
-                    let near: [&[(Small, u32)]; 5] = std::array::from_fn(|r| {
+                    let near: [&[(AabbF32, u32)]; 5] = std::array::from_fn(|r| {
                         let f = from[r];
                         let e = if r == 0 { f + 1 } else { f + 3 };
                         self.runs(f.max(0) as u32, e.max(0) as u32)

@@ -26,17 +26,16 @@
 //! # Ok::<(), kinetic_collide::WorldError>(())
 //! ```
 //!
-//! `World::new` takes the candidate structure measured fastest for what it holds ([`Auto`]:
-//! the brute force for a few dozen objects, then the loose grid, then the grid or the sweep
-//! as sizes spread). Any other can be named, for
-//! example the collision tree of the paper's Section 2 ([`RollingTree`]) for balls rolling on
-//! a plane:
+//! `World::new` starts with the brute force and moves to the box structure the registry's
+//! cost model names for the objects it holds (the loose grid, the grid or the sweep, as
+//! sizes spread). Any structure can be named, for example the collision tree of the paper's
+//! Section 2 ([`Structure::RollingTree`]) for balls rolling on a plane:
 //!
 //! ```
-//! use kinetic_collide::{FlightPlan, ListLayout, Response, RollingTree, Vec3, World, WorldKind};
+//! use kinetic_collide::{FlightPlan, Response, Structure, Vec3, World, WorldKind};
 //!
-//! let tree = Box::new(RollingTree::new(ListLayout::PerNode));
-//! let mut world = World::with_structure(WorldKind::Plane, Response::Elastic, None, tree)?;
+//! let mut world =
+//!     World::with_structure(WorldKind::Plane, Response::Elastic, None, Structure::RollingTree)?;
 //! world.add_balls([
 //!     (0.1, FlightPlan::linear(Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0))),
 //!     (10.0, FlightPlan::at_rest(Vec3::new(5.0, 0.0, 0.0))),
@@ -56,32 +55,33 @@
 //! - `rapier`: the kinetic broad phase for rapier3d 0.27, as [`rapier`] (`kinetic-rapier`).
 //! - `render`: the headless wgpu renderer, as [`render`] (`kinetic-render`).
 //!
-//! The default build holds only the kinetic core, the rolling and flight structures and the
-//! scene format. The pieces for building your own kinetic structure (event queue,
-//! polynomials, roots, certificates, sorted lists, cones) are in [`kds`].
+//! The default build holds the kinetic core, the rolling, flight and hard-sphere structures
+//! and the scene format. The pieces for building your own kinetic structure (event queue,
+//! polynomials, roots, certificates, sorted lists, cones, the structures themselves) are in
+//! [`kds`]; the hard-sphere simulators (elastic balls in walls, in a periodic box) in
+//! [`spheres`].
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
 pub mod run;
 pub mod scene;
-pub mod structures;
+mod structures;
 mod world;
 
 pub use kinetic_core::{
-    Body, BruteForce, Bulk, CandidateStructure, ContactEvent, ContactKind, ElasticCells,
-    FlightPlan, MAX_MAGNITUDE, ObjectId, PeriodicBox, PeriodicSpheres, Quat, Real, Response, Shape,
-    Stats, StepKind, Vec3, Walls, WorldError, WorldKind,
+    ContactEvent, ContactKind, FlightPlan, ObjectId, Quat, Response, Shape, Stats, StepKind, Vec3,
+    Walls, WorldError, WorldKind,
 };
-pub use kinetic_flight::{Auto, ConvexShape, Grid, Guards, LooseGrid, ShapeError, Sweep};
-pub use kinetic_rolling::{ListLayout, RollingTree};
-pub use run::{RunError, RunOutput, StructureName};
-pub use scene::{Scene, SceneError};
+pub use kinetic_flight::ConvexShape;
+pub use structures::Structure;
 pub use world::World;
 
-/// The vector and quaternion crate of the kinetic math (f64), as its types appear here.
-pub use glam;
 /// parry3d-f64, whose shapes back [`ConvexShape`] (see [`ConvexShape::parry`]).
 pub use parry3d_f64 as parry;
+
+/// The hard-sphere simulators (`kinetic-spheres`): elastic balls in walls on a grid of
+/// cells, and in a periodic box with the fluid's bulk figures.
+pub use kinetic_spheres as spheres;
 
 /// The kinetic broad phase for rapier3d 0.27 (feature `rapier`).
 #[cfg(feature = "rapier")]
@@ -91,19 +91,17 @@ pub use kinetic_rapier as rapier;
 #[cfg(feature = "render")]
 pub use kinetic_render as render;
 
-/// Building blocks of kinetic data structures, for people who build their own: the indexed
-/// event queue, polynomials and their roots, certificates, kinetic sorted lists, geometry,
-/// and the cones and choice rules of the flight structures.
+/// Building blocks of kinetic data structures, for people who build their own: the
+/// simulator that runs any candidate structure, the indexed event queue, polynomials and
+/// their roots, certificates, kinetic sorted lists, geometry, the cones, and the structures
+/// themselves.
 pub mod kds {
-    /// The simulator under [`crate::World`] (`kinetic_core::World`): any candidate structure,
-    /// the brute force by default.
-    pub use kinetic_core::World as Simulator;
     pub use kinetic_core::kds::*;
-    pub use kinetic_flight::{
-        CROSSING_COST, Choice, Cone, ConeSet, ELASTIC_BRUTE_MAX, GRID_SPREAD, GuardGrid,
-        HEAVY_PAIR_FACTOR, LOOSE_N, LOOSE_N_SPREAD, LOOSE_SPREAD, OBJECT_COST, PAIR_COST,
-        RESTING_CROSSINGS, RESTING_GRID_MAX, RHO_MAX, SIGMA_MAX, SIZES_ALIKE, SWEEP_PASS_COST,
-        barely_moving, brute_force_pays, fatness, for_flights, for_steps, grid_crossing_share,
-        guard_fatness, loose_spread, paper_choice, scale_factor, spread, sweep_crossings,
+    pub use kinetic_core::{
+        Body, BruteForce, CandidateStructure, MAX_MAGNITUDE, Real, Simulator, elastic,
     };
+    pub use kinetic_flight::{
+        Cone, ConeSet, GuardGrid, Grid, Guards, LooseGrid, RHO_MAX, ShapeError, Sweep, fatness,
+    };
+    pub use kinetic_rolling::{ListLayout, RollingTree};
 }

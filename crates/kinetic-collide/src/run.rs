@@ -1,14 +1,13 @@
-//! Running a scene on the structure the registry ([`crate::structures`]) names: events
+//! Running a scene on the structure the registry ([`crate::Structure`]) names: events
 //! processed to the horizon and handed to a sink in batches that end between instants, and
 //! the event log and statistics written exactly as the scene format says.
 
-use crate::World;
-use crate::scene::Scene;
-pub use crate::structures::{StructureName, build_world, cells_hold, choose_structure, shapes_of};
-use crate::structures::{cell_balls, periodic_balls};
-use kinetic_core::{
-    Bulk, ContactEvent, ContactKind, ElasticCells, PeriodicSpheres, Stats, WorldError,
-};
+use crate::scene::{Scene, ShapeSpec};
+use crate::structures::{FLIGHT_PARTS, cell_balls, periodic_balls};
+use crate::{Structure, World};
+use kinetic_core::{ContactEvent, ContactKind, Shape, Stats, WorldError};
+use kinetic_flight::ConvexShape;
+use kinetic_spheres::{Bulk, ElasticCells, PeriodicSpheres};
 use std::cell::RefCell;
 use std::fmt::Write as _;
 use std::ops::ControlFlow;
@@ -56,7 +55,7 @@ impl From<kinetic_flight::ShapeError> for RunError {
 #[derive(Clone, Debug)]
 pub struct RunOutput {
     /// The structure used.
-    pub structure: StructureName,
+    pub structure: Structure,
     /// Number of objects.
     pub objects: usize,
     /// The horizon.
@@ -99,8 +98,8 @@ pub struct Stream<'a> {
 /// the length of a run).
 const BATCH: usize = 4096;
 
-/// The two engines a run drives: a world (any structure) and the cell grid.
-trait Engine {
+/// What a run drives: a world (any structure), the cell grid or the periodic box.
+trait Simulation {
     fn step_to(&mut self, until: f64) -> Result<bool, WorldError>;
     fn next_time(&self) -> f64;
     fn clock(&self) -> f64;
@@ -108,7 +107,7 @@ trait Engine {
     fn finish(&mut self, horizon: f64) -> Result<(), WorldError>;
 }
 
-impl Engine for World {
+impl Simulation for World {
     fn step_to(&mut self, until: f64) -> Result<bool, WorldError> {
         Ok(self.step(until)?.is_some())
     }
@@ -126,10 +125,10 @@ impl Engine for World {
     }
 }
 
-/// The whole-scene engines share the world's stepping interface, method for method.
-macro_rules! scene_engine {
-    ($($engine:ty),*) => {$(
-        impl Engine for $engine {
+/// The whole-scene simulators share the world's stepping interface, method for method.
+macro_rules! scene_simulation {
+    ($($simulation:ty),*) => {$(
+        impl Simulation for $simulation {
             fn step_to(&mut self, until: f64) -> Result<bool, WorldError> {
                 self.step(until)
             }
@@ -149,51 +148,51 @@ macro_rules! scene_engine {
     )*};
 }
 
-scene_engine!(ElasticCells, PeriodicSpheres);
+scene_simulation!(ElasticCells, PeriodicSpheres);
 
 /// How a drive to a time ended.
 enum Reached {
     /// The time was reached.
     Time,
-    /// Stopped on request at the engine's clock.
+    /// Stopped on request at the simulation's clock.
     Stopped(String),
 }
 
-/// Hands the events `engine` holds to the sink.
-fn flush(engine: &mut impl Engine, stream: &mut Stream<'_>) -> ControlFlow<String> {
-    let events = engine.take_events();
+/// Hands the events `sim` holds to the sink.
+fn flush(sim: &mut impl Simulation, stream: &mut Stream<'_>) -> ControlFlow<String> {
+    let events = sim.take_events();
     if events.is_empty() {
         return ControlFlow::Continue(());
     }
     (stream.sink)(&events)
 }
 
-/// Processes `engine`'s events up to `until` and moves its clock there, handing the events
+/// Processes `sim`'s events up to `until` and moves its clock there, handing the events
 /// to the sink in batches that end at an instant; stops at the next instant once `stop` is
 /// set or the sink breaks. On an error the events up to it are handed on first.
 fn drive(
-    engine: &mut impl Engine,
+    sim: &mut impl Simulation,
     until: f64,
     stream: &mut Stream<'_>,
 ) -> Result<Reached, WorldError> {
     let mut steps = 0usize;
     loop {
-        let stepped = match engine.step_to(until) {
+        let stepped = match sim.step_to(until) {
             Ok(stepped) => stepped,
             Err(e) => {
-                let _ = flush(engine, stream);
+                let _ = flush(sim, stream);
                 return Err(e);
             }
         };
         steps += 1;
         // A batch ends only between instants, so ties stay in (a, b) order across batches.
-        if stepped && engine.next_time() <= engine.clock() {
+        if stepped && sim.next_time() <= sim.clock() {
             continue;
         }
         let stop = stream.stop.is_some_and(|s| s.load(Ordering::Relaxed));
         if steps >= BATCH || !stepped || stop {
             steps = 0;
-            if let ControlFlow::Break(reason) = flush(engine, stream) {
+            if let ControlFlow::Break(reason) = flush(sim, stream) {
                 return Ok(Reached::Stopped(reason));
             }
             if stop {
@@ -204,8 +203,8 @@ fn drive(
             break;
         }
     }
-    engine.finish(until)?;
-    Ok(match flush(engine, stream) {
+    sim.finish(until)?;
+    Ok(match flush(sim, stream) {
         ControlFlow::Break(reason) => Reached::Stopped(reason),
         ControlFlow::Continue(()) => Reached::Time,
     })
@@ -228,7 +227,7 @@ fn run_cells(
         ElasticCells::new(walls, &balls).map_err(|e| RunError::Input(format!("objects: {e}")))?;
     let result = drive(&mut cells, scene.horizon, stream);
     let output = RunOutput {
-        structure: StructureName::Cells,
+        structure: Structure::Cells,
         objects: scene.objects.len(),
         horizon: scene.horizon,
         events: Vec::new(),
@@ -257,7 +256,7 @@ fn run_periodic(
         PeriodicSpheres::new(cell, &balls).map_err(|e| RunError::Input(format!("objects: {e}")))?;
     let result = drive(&mut gas, scene.horizon, stream);
     let output = RunOutput {
-        structure: StructureName::Periodic,
+        structure: Structure::Periodic,
         objects: scene.objects.len(),
         horizon: scene.horizon,
         events: Vec::new(),
@@ -272,7 +271,7 @@ fn run_periodic(
 
 /// Runs `scene` to its horizon with the named structure (or the chosen one), holding every
 /// event in the output.
-pub fn run_scene(scene: &Scene, structure: Option<StructureName>) -> Result<RunOutput, RunError> {
+pub fn run_scene(scene: &Scene, structure: Option<Structure>) -> Result<RunOutput, RunError> {
     holding_events(|stream| {
         run_scene_streamed(scene, structure, &[], &mut |_, _| {}, stream).map(|out| (out, ()))
     })
@@ -322,14 +321,14 @@ pub fn holding_events<T>(
 /// on request ends the run at an instant and is noted in [`RunOutput::interrupted`].
 pub fn run_scene_streamed(
     scene: &Scene,
-    structure: Option<StructureName>,
+    structure: Option<Structure>,
     times: &[f64],
     sample: &mut dyn FnMut(&World, &[bool]),
     stream: &mut Stream<'_>,
 ) -> Result<RunOutput, RunError> {
     let start = Instant::now();
-    let chosen = structure.unwrap_or_else(|| choose_structure(scene));
-    if scene.periodic.is_some() || chosen == StructureName::Periodic {
+    let chosen = structure.unwrap_or_else(|| Structure::for_scene(scene));
+    if scene.periodic.is_some() || chosen == Structure::Periodic {
         if !times.is_empty() {
             return Err(RunError::Input(
                 "--frames: frames are drawn from a world, and a periodic scene runs on the \
@@ -337,10 +336,10 @@ pub fn run_scene_streamed(
                     .to_string(),
             ));
         }
-        if chosen != StructureName::Periodic || scene.periodic.is_none() {
+        if chosen != Structure::Periodic || scene.periodic.is_none() {
             return Err(RunError::Input(format!(
                 "--structure {}: {}",
-                chosen.as_str(),
+                chosen.name(),
                 if scene.periodic.is_some() {
                     "a periodic scene runs on the periodic structure only"
                 } else {
@@ -350,13 +349,13 @@ pub fn run_scene_streamed(
         }
         return run_periodic(scene, start, stream);
     }
-    if chosen == StructureName::Cells {
+    if chosen == Structure::Cells {
         if times.is_empty() {
             return run_cells(scene, start, stream);
         }
         if structure.is_none() {
             // Frames are drawn from a world: the grid gives the same events.
-            return run_scene_streamed(scene, Some(StructureName::Grid), times, sample, stream);
+            return run_scene_streamed(scene, Some(Structure::Grid), times, sample, stream);
         }
     }
     let (mut world, name) = build_world(scene, structure)?;
@@ -427,6 +426,55 @@ pub fn run_scene_streamed(
     output.finish(result, world.now())
 }
 
+/// The objects' shapes, or the first that cannot be built.
+pub fn shapes_of(scene: &Scene) -> Result<Vec<Shape>, RunError> {
+    let mut shapes = Vec::with_capacity(scene.objects.len());
+    for (i, o) in scene.objects.iter().enumerate() {
+        shapes.push(match &o.shape {
+            ShapeSpec::Ball { radius } => Shape::Ball { radius: *radius },
+            ShapeSpec::Cuboid { half_extents } => ConvexShape::cuboid(*half_extents)
+                .map_err(|e| RunError::Input(format!("objects[{i}].shape.cuboid: {e}")))?
+                .into_shape(),
+            ShapeSpec::ConvexHull { points } => ConvexShape::convex_hull(points)
+                .map_err(|e| {
+                    RunError::Input(format!("objects[{i}].shape.convex_hull.points: {e}"))
+                })?
+                .into_shape(),
+        });
+    }
+    Ok(shapes)
+}
+
+/// The world of `scene` at t = 0 with the named structure (or the chosen one).
+pub fn build_world(
+    scene: &Scene,
+    structure: Option<Structure>,
+) -> Result<(World, Structure), RunError> {
+    let shapes = shapes_of(scene)?;
+    let name = structure.unwrap_or_else(|| Structure::for_scene(scene));
+    if scene.periodic.is_some() {
+        return Err(RunError::Input(
+            "periodic: a periodic scene runs on the periodic structure, not inside a world \
+             (frames and the other structures do not wrap)"
+                .to_string(),
+        ));
+    }
+    let least_flight = scene.horizon / FLIGHT_PARTS;
+    let candidates = name
+        .build(scene.world, &shapes, least_flight)
+        .map_err(|why| RunError::Input(format!("--structure {name}: {why}")))?;
+    let mut world = World::with_candidates(scene.world, scene.response, scene.walls, candidates)
+    .map_err(|e| RunError::Input(format!("walls: {e}")))?;
+    world
+        .add_objects(
+            shapes
+                .into_iter()
+                .zip(scene.objects.iter().map(|o| o.plan())),
+        )
+        .map_err(|e| RunError::Input(format!("objects: {e}")))?;
+    Ok((world, name))
+}
+
 /// Appends `e` to `out` as one line of the event log, exactly as the scene format shows it.
 pub fn push_event_line(out: &mut String, e: &ContactEvent) {
     let kind = match e.kind {
@@ -473,7 +521,7 @@ impl RunOutput {
     pub fn stats_json(&self) -> String {
         let s = &self.stats;
         let value = serde_json::json!({
-            "structure": self.structure.as_str(),
+            "structure": self.structure.name(),
             "objects": self.objects,
             "horizon": self.horizon,
             "events": {"total": s.events_total(), "by_kind": s.events_by_kind},
@@ -507,7 +555,7 @@ impl RunOutput {
     pub fn summary(&self) -> String {
         format!(
             "structure {}: {} objects, {} events, {} contacts begun, {} ended, {} bounces, {:.3} s",
-            self.structure.as_str(),
+            self.structure.name(),
             self.objects,
             self.stats.events_total(),
             self.stats.begins,

@@ -1,11 +1,11 @@
-//! The library's world: the kinetic simulator ([`kinetic_core::World`]) with the fast
-//! structure by default.
+//! The library's world: the kinetic simulator ([`kinetic_core::Simulator`]) with the
+//! registry's structures.
 //!
-//! `kinetic_core::World` runs any candidate structure and defaults to the brute force, the
-//! exact reference, because the core knows no other. This world defaults to [`Auto`]: the
-//! brute force for its first few dozen objects, then the flight structure the registry's
-//! measured rule ([`kinetic_flight::for_flights`]) picks for the sizes of the objects it
-//! holds, re-picked when they spread past its bounds. Everything
+//! The simulator runs any candidate structure and defaults to the brute force, the exact
+//! reference, because the core knows no other. This world knows them all: it defaults to the
+//! registry's adaptive structure (the brute force for its first few dozen objects, then the
+//! box structure the cost model picks for the sizes of the objects it holds, re-picked when
+//! they spread past its bounds), and builds any other by name ([`Structure`]). Everything
 //! else is the simulator's own: this type derefs to it, and forwards the methods that change
 //! the world itself, so that `world.advance_to(world.now() + 1.0)` borrows as it reads.
 
@@ -13,18 +13,18 @@ use kinetic_core::{
     Body, CandidateStructure, ContactEvent, FlightPlan, ObjectId, Real, Response, Shape, StepKind,
     Walls, WorldError, WorldKind,
 };
-use kinetic_flight::Auto;
+use crate::structures::{Auto, Structure};
 use std::ops::{Deref, DerefMut};
 
 /// A world of moving objects: add objects with flight plans, change plans, advance, drain the
-/// exact contact events. Every method of [`kinetic_core::World`] is available on it.
+/// exact contact events. Every method of [`kinetic_core::Simulator`] is available on it.
 #[derive(Debug)]
 pub struct World {
-    inner: kinetic_core::World,
+    inner: kinetic_core::Simulator,
 }
 
 impl World {
-    /// An empty world with no response, no walls and the default structure ([`Auto`]).
+    /// An empty world with no response, no walls and the default structure.
     pub fn new(kind: WorldKind) -> World {
         World::with_response(kind, Response::None, None).expect("no walls are valid walls")
     }
@@ -36,31 +36,50 @@ impl World {
         walls: Option<Walls>,
     ) -> Result<World, WorldError> {
         let auto = Auto::new().on_plane(kind == WorldKind::Plane);
-        World::with_structure(kind, response, walls, Box::new(auto))
+        World::with_candidates(kind, response, walls, Box::new(auto))
     }
 
-    /// An empty world with the given response, walls and candidate structure (any of the
-    /// registry's, or one of your own).
+    /// An empty world with the given response, walls and structure. The hard-sphere
+    /// simulators ([`Structure::Cells`], [`Structure::Periodic`]) run whole scenes, not
+    /// inside a world (see [`crate::spheres`]); the rolling tree needs a plane world and the
+    /// guards a free one.
     pub fn with_structure(
+        kind: WorldKind,
+        response: Response,
+        walls: Option<Walls>,
+        structure: Structure,
+    ) -> Result<World, WorldError> {
+        let candidates = structure.build(kind, &[], 0.0).map_err(|why| {
+            WorldError::UnsupportedStructure {
+                structure: structure.name(),
+                why,
+            }
+        })?;
+        World::with_candidates(kind, response, walls, candidates)
+    }
+
+    /// An empty world with the given response, walls and a candidate structure of your own
+    /// (see [`crate::kds`]).
+    pub fn with_candidates(
         kind: WorldKind,
         response: Response,
         walls: Option<Walls>,
         structure: Box<dyn CandidateStructure>,
     ) -> Result<World, WorldError> {
-        kinetic_core::World::with_structure(kind, response, walls, structure).map(World::from)
+        kinetic_core::Simulator::with_structure(kind, response, walls, structure).map(World::from)
     }
 
     /// The simulator itself.
-    pub fn into_inner(self) -> kinetic_core::World {
+    pub fn into_inner(self) -> kinetic_core::Simulator {
         self.inner
     }
 
-    /// Adds a ball (see [`kinetic_core::World::add_ball`]).
+    /// Adds a ball (see [`kinetic_core::Simulator::add_ball`]).
     pub fn add_ball(&mut self, radius: Real, plan: FlightPlan) -> Result<ObjectId, WorldError> {
         self.inner.add_ball(radius, plan)
     }
 
-    /// Adds balls together (see [`kinetic_core::World::add_balls`]).
+    /// Adds balls together (see [`kinetic_core::Simulator::add_balls`]).
     pub fn add_balls(
         &mut self,
         balls: impl IntoIterator<Item = (Real, FlightPlan)>,
@@ -68,12 +87,12 @@ impl World {
         self.inner.add_balls(balls)
     }
 
-    /// Adds an object (see [`kinetic_core::World::add_object`]).
+    /// Adds an object (see [`kinetic_core::Simulator::add_object`]).
     pub fn add_object(&mut self, shape: Shape, plan: FlightPlan) -> Result<ObjectId, WorldError> {
         self.inner.add_object(shape, plan)
     }
 
-    /// Adds objects together (see [`kinetic_core::World::add_objects`]).
+    /// Adds objects together (see [`kinetic_core::Simulator::add_objects`]).
     pub fn add_objects(
         &mut self,
         objects: impl IntoIterator<Item = (Shape, FlightPlan)>,
@@ -81,48 +100,48 @@ impl World {
         self.inner.add_objects(objects)
     }
 
-    /// Removes an object (see [`kinetic_core::World::remove`]).
+    /// Removes an object (see [`kinetic_core::Simulator::remove`]).
     pub fn remove(&mut self, id: ObjectId) -> Result<Body, WorldError> {
         self.inner.remove(id)
     }
 
-    /// Gives an object a new plan (see [`kinetic_core::World::set_plan`]).
+    /// Gives an object a new plan (see [`kinetic_core::Simulator::set_plan`]).
     pub fn set_plan(&mut self, id: ObjectId, plan: FlightPlan) -> Result<(), WorldError> {
         self.inner.set_plan(id, plan)
     }
 
-    /// Processes every event up to `t` (see [`kinetic_core::World::advance_to`]).
+    /// Processes every event up to `t` (see [`kinetic_core::Simulator::advance_to`]).
     pub fn advance_to(&mut self, t: Real) -> Result<(), WorldError> {
         self.inner.advance_to(t)
     }
 
-    /// Processes the next event up to `until` (see [`kinetic_core::World::step`]).
+    /// Processes the next event up to `until` (see [`kinetic_core::Simulator::step`]).
     pub fn step(&mut self, until: Real) -> Result<Option<StepKind>, WorldError> {
         self.inner.step(until)
     }
 
-    /// Takes the contact events so far (see [`kinetic_core::World::drain_events`]).
+    /// Takes the contact events so far (see [`kinetic_core::Simulator::drain_events`]).
     pub fn drain_events(&mut self) -> Vec<ContactEvent> {
         self.inner.drain_events()
     }
 }
 
-impl From<kinetic_core::World> for World {
-    fn from(inner: kinetic_core::World) -> World {
+impl From<kinetic_core::Simulator> for World {
+    fn from(inner: kinetic_core::Simulator) -> World {
         World { inner }
     }
 }
 
 impl Deref for World {
-    type Target = kinetic_core::World;
+    type Target = kinetic_core::Simulator;
 
-    fn deref(&self) -> &kinetic_core::World {
+    fn deref(&self) -> &kinetic_core::Simulator {
         &self.inner
     }
 }
 
 impl DerefMut for World {
-    fn deref_mut(&mut self) -> &mut kinetic_core::World {
+    fn deref_mut(&mut self) -> &mut kinetic_core::Simulator {
         &mut self.inner
     }
 }

@@ -2,10 +2,9 @@
 //! another thread or sit in a shared resource, and errors convert with `?` across crates.
 
 use kinetic_collide::run::RunError;
-use kinetic_collide::{
-    BruteForce, ConvexShape, FlightPlan, Grid, Guards, LooseGrid, RollingTree, Scene, Sweep, Vec3,
-    World, WorldError, WorldKind,
-};
+use kinetic_collide::kds::{BruteForce, Grid, Guards, LooseGrid, RollingTree, Sweep};
+use kinetic_collide::scene::Scene;
+use kinetic_collide::{ConvexShape, FlightPlan, Structure, Vec3, World, WorldError, WorldKind};
 
 fn send_sync<T: Send + Sync>() {}
 
@@ -17,9 +16,8 @@ fn the_world_and_every_structure_are_send_and_sync() {
     send_sync::<Guards>();
     send_sync::<Grid>();
     send_sync::<LooseGrid>();
-    send_sync::<kinetic_collide::Auto>();
     send_sync::<RollingTree>();
-    send_sync::<kinetic_collide::ElasticCells>();
+    send_sync::<kinetic_collide::spheres::ElasticCells>();
     // And it runs on another thread.
     let mut world = World::new(WorldKind::Free);
     world
@@ -115,4 +113,76 @@ fn a_zeno_trap_at_a_wall_names_the_object_and_the_wall() {
         b: 2,
     };
     assert!(pair.to_string().contains("objects 1 and 2"), "{pair}");
+}
+
+/// Every structure builds into a world where it applies, and says why where it does not.
+#[test]
+fn every_structure_by_name_builds_a_world_or_says_why_not() {
+    for s in Structure::ALL {
+        for kind in [WorldKind::Free, WorldKind::Plane] {
+            let built =
+                World::with_structure(kind, kinetic_collide::Response::None, None, s);
+            let applies = match s {
+                Structure::Cells | Structure::Periodic => false,
+                Structure::RollingTree | Structure::RollingGlobalLists => kind == WorldKind::Plane,
+                Structure::Guards => kind == WorldKind::Free,
+                _ => true,
+            };
+            match built {
+                Ok(world) => {
+                    assert!(applies, "{s} built in a {kind:?} world");
+                    assert_eq!(world.structure_name(), s.name());
+                }
+                Err(e) => {
+                    assert!(!applies, "{s} in a {kind:?} world: {e}");
+                    assert!(matches!(e, WorldError::UnsupportedStructure { .. }), "{e}");
+                    assert!(e.to_string().contains(s.name()), "{e}");
+                }
+            }
+        }
+    }
+}
+
+/// The front door stays small: at most 25 names at the crate's root, each once.
+#[test]
+fn the_root_exports_at_most_25_names_each_once() {
+    let lib = include_str!("../src/lib.rs");
+    let mut names = Vec::new();
+    let mut depth = 0usize;
+    let mut statement = String::new();
+    for line in lib.lines() {
+        let code = line.split("//").next().unwrap_or("").trim();
+        if depth == 0 && (code.starts_with("pub use") || code.starts_with("pub mod")) {
+            statement.clear();
+        }
+        if depth == 0 && (code.starts_with("pub use") || code.starts_with("pub mod") || !statement.is_empty()) {
+            statement.push_str(code);
+            statement.push(' ');
+            if code.ends_with(';') || code.ends_with('{') {
+                let s = statement.trim().trim_end_matches(['{', ';']).trim().to_string();
+                statement.clear();
+                if let Some(m) = s.strip_prefix("pub mod ") {
+                    names.push(m.to_string());
+                } else if let Some(u) = s.strip_prefix("pub use ") {
+                    let inner = u.split_once('{').map_or(u, |(_, rest)| rest.trim_end_matches('}'));
+                    for item in inner.split(',') {
+                        let item = item.trim();
+                        if item.is_empty() {
+                            continue;
+                        }
+                        let name = item.rsplit(" as ").next().unwrap_or(item);
+                        names.push(name.rsplit("::").next().unwrap_or(name).to_string());
+                    }
+                }
+            }
+        }
+        depth += code.matches('{').count();
+        depth -= code.matches('}').count().min(depth);
+    }
+    assert!(names.len() >= 10, "the scan found {names:?}");
+    assert!(names.len() <= 25, "{} names at the root: {names:?}", names.len());
+    let mut sorted = names.clone();
+    sorted.sort();
+    sorted.dedup();
+    assert_eq!(sorted.len(), names.len(), "a name twice: {names:?}");
 }

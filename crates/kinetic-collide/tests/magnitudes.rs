@@ -3,7 +3,8 @@
 //! lengths from 1e-100 to 1e100, cuboids from 1e-3 to 1e6; a scene beyond the range the tool
 //! computes exactly is refused.
 
-use kinetic_collide::run::{StructureName, run_scene};
+use kinetic_collide::run::run_scene;
+use kinetic_collide::Structure;
 use kinetic_collide::scene::{MAX_REACH, Scene, SceneObject, ShapeSpec};
 use kinetic_collide::{ContactEvent, Response, WorldKind};
 use kinetic_scenes::audit::assert_same_contacts;
@@ -62,7 +63,7 @@ fn same_logs_at_scale(
     boxes: bool,
 ) {
     let unit = scene(seeds, 1.0, world, boxes);
-    let reference = log(&unit, StructureName::BruteForce);
+    let reference = log(&unit, Structure::BruteForce);
     let scaled = scene(seeds, 10f64.powi(exponent), world, boxes);
     // The scaled scene reads back through the parser: it is in range.
     let read = Scene::from_json(&scaled.to_json()).unwrap();
@@ -72,15 +73,14 @@ fn same_logs_at_scale(
     }
 }
 
-fn applicable(scene: &Scene) -> Vec<StructureName> {
-    StructureName::ALL
-        .iter()
-        .map(|&(_, s)| s)
+fn applicable(scene: &Scene) -> Vec<Structure> {
+    Structure::ALL
+        .into_iter()
         .filter(|s| s.applies_to(scene))
         .collect()
 }
 
-fn log(scene: &Scene, s: StructureName) -> Vec<ContactEvent> {
+fn log(scene: &Scene, s: Structure) -> Vec<ContactEvent> {
     run_scene(scene, Some(s))
         .unwrap_or_else(|e| panic!("{s:?}: {e}"))
         .events

@@ -2,7 +2,8 @@
 //! counted by a wrapping allocator, is the same for a run fifteen times as long.
 
 use kinetic_collide::ContactEvent;
-use kinetic_collide::run::{Stream, StructureName, run_scene_streamed};
+use kinetic_collide::run::{Stream, run_scene_streamed};
+use kinetic_collide::Structure;
 use kinetic_scenes::HardSpheres;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::ops::ControlFlow;
@@ -39,10 +40,10 @@ static ALLOCATOR: Counting = Counting;
 /// The heap's peak over a streamed run of a 2,000-sphere gas (in walls, or in a periodic box
 /// for the periodic structure) for about `collisions` collisions with `structure`, and the
 /// events the sink saw.
-fn peak_of_run(collisions: f64, structure: StructureName) -> (usize, u64) {
+fn peak_of_run(collisions: f64, structure: Structure) -> (usize, u64) {
     let scene = HardSpheres {
         collisions,
-        periodic: structure == StructureName::Periodic,
+        periodic: structure == Structure::Periodic,
         ..HardSpheres::gas(2000)
     }
     .build()
@@ -74,9 +75,9 @@ fn peak_of_run(collisions: f64, structure: StructureName) -> (usize, u64) {
 #[test]
 fn a_streamed_run_holds_no_more_for_more_events() {
     for structure in [
-        StructureName::Cells,
-        StructureName::Grid,
-        StructureName::Periodic,
+        Structure::Cells,
+        Structure::Grid,
+        Structure::Periodic,
     ] {
         let (short, short_events) = peak_of_run(2e4, structure);
         let (long, long_events) = peak_of_run(3e5, structure);

@@ -1,14 +1,15 @@
 //! The brute-force reference on seeded random scenes, against direct overlap tests at sample
 //! times: the contact state implied by the event log must match the geometry.
 
-use kinetic_collide::run::{StructureName, build_world};
+use kinetic_collide::run::build_world;
+use kinetic_collide::Structure;
 use kinetic_collide::{ContactKind, ObjectId, Response, World, WorldKind};
 use kinetic_scenes::BallScene;
 use std::collections::BTreeSet;
 
 fn check(params: BallScene) -> usize {
     let scene = params.build();
-    let (mut world, _) = build_world(&scene, Some(StructureName::BruteForce)).unwrap();
+    let (mut world, _) = build_world(&scene, Some(Structure::BruteForce)).unwrap();
     let mut touching: BTreeSet<(u32, u32)> = BTreeSet::new();
     let samples = 40;
     let mut total = 0;
@@ -144,7 +145,7 @@ fn elastic_gas_in_a_box_keeps_energy() {
             })
             .sum()
     };
-    let (mut world, _) = build_world(&scene, Some(StructureName::BruteForce)).unwrap();
+    let (mut world, _) = build_world(&scene, Some(Structure::BruteForce)).unwrap();
     let e0 = energy(&world);
     while world.step(scene.horizon).unwrap().is_some() {
         world.validate().unwrap();

@@ -2,14 +2,16 @@
 //!
 //! The kinetic core of kinetic-collide: flight plans, certificate roots, an indexed event
 //! queue, kinetic sorted lists, the simulator loop and the brute-force reference structure.
+//! The hard-sphere simulators built on it are in `kinetic-spheres`; the structures in
+//! `kinetic-rolling` and `kinetic-flight`.
 //! A kinetic data structure keeps certificates (facts that prove objects are apart), computes
 //! when each fails from the objects' flight plans, and processes failures in time order, so
 //! contacts are found at their exact time whatever the speeds.
 //!
 //! ```
-//! use kinetic_core::{ContactKind, FlightPlan, Vec3, World, WorldKind};
+//! use kinetic_core::{ContactKind, FlightPlan, Vec3, Simulator, WorldKind};
 //!
-//! let mut world = World::new(WorldKind::Free);
+//! let mut world = Simulator::new(WorldKind::Free);
 //! let a = world.add_ball(1.0, FlightPlan::linear(Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0))).unwrap();
 //! let b = world.add_ball(1.0, FlightPlan::at_rest(Vec3::new(10.0, 0.0, 0.0))).unwrap();
 //! world.advance_to(5.0).unwrap();
@@ -23,6 +25,7 @@
 
 mod body;
 mod brute_force;
+pub mod elastic;
 pub mod kds;
 mod math;
 mod plan;
@@ -41,6 +44,6 @@ pub use prefetch::{prefetch, prefetch_all};
 pub use structure::CandidateStructure;
 pub use world::step::StepKind;
 pub use world::{
-    Bulk, ContactEvent, ContactKind, ElasticCells, MAX_MAGNITUDE, ObjectId, PeriodicBox,
-    PeriodicSpheres, Response, Stats, Walls, World, WorldError, WorldKind,
+    ContactEvent, ContactKind, MAX_MAGNITUDE, ObjectId, Response, Stats, Walls, Simulator, WorldError,
+    WorldKind,
 };

@@ -1,7 +1,7 @@
 //! What a kinetic collision structure provides to the simulator: a set of candidate pairs
 //! that always contains every pair in contact, kept up to date by its own events.
 //!
-//! The simulator ([`crate::World`]) keeps a disjointness certificate for each candidate pair
+//! The simulator ([`crate::Simulator`]) keeps a disjointness certificate for each candidate pair
 //! and reports contacts; a structure only decides which pairs are candidates. The brute force
 //! ([`crate::BruteForce`]) makes every pair a candidate and has no events of its own.
 

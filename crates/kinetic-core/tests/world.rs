@@ -2,16 +2,16 @@
 //! `validate()` after every event.
 
 use kinetic_core::{
-    BruteForce, ContactEvent, ContactKind, FlightPlan, ObjectId, Response, Vec3, Walls, World,
+    BruteForce, ContactEvent, ContactKind, FlightPlan, ObjectId, Response, Vec3, Walls, Simulator,
     WorldError, WorldKind,
 };
 
-fn world(kind: WorldKind, response: Response, walls: Option<Walls>) -> World {
-    World::with_structure(kind, response, walls, Box::new(BruteForce::new())).unwrap()
+fn world(kind: WorldKind, response: Response, walls: Option<Walls>) -> Simulator {
+    Simulator::with_structure(kind, response, walls, Box::new(BruteForce::new())).unwrap()
 }
 
 /// Runs to `t`, validating after every event.
-fn run(w: &mut World, t: f64) -> Vec<ContactEvent> {
+fn run(w: &mut Simulator, t: f64) -> Vec<ContactEvent> {
     w.validate().unwrap();
     while w.step(t).unwrap().is_some() {
         w.validate()
@@ -202,7 +202,7 @@ fn elastic_keeps_momentum_and_energy() {
         .add_ball(2.0, FlightPlan::linear(v(8.0, 0.0, 0.0), v(-1.0, 0.2, 0.0)))
         .unwrap();
     let (ma, mb) = (1.0, 8.0);
-    let momentum = |w: &World| {
+    let momentum = |w: &Simulator| {
         let (pa, pb) = (w.body(a).unwrap().plan, w.body(b).unwrap().plan);
         let t = w.now();
         let (va, vb) = (pa.velocity_at(t), pb.velocity_at(t));
@@ -340,7 +340,7 @@ fn plan_change_and_removal_mid_run() {
 
 #[test]
 fn bad_input_is_a_typed_error() {
-    let mut w = World::new(WorldKind::Free);
+    let mut w = Simulator::new(WorldKind::Free);
     assert!(matches!(
         w.add_ball(-1.0, FlightPlan::at_rest(Vec3::ZERO)),
         Err(WorldError::InvalidRadius { .. })
@@ -436,7 +436,7 @@ fn contact_beginning_as_its_pair_is_added_is_not_lost_to_rounding() {
             rng.random_range(0.3..3.0),
         );
         let t_contact = (d - 2.0 * r) / v;
-        let mut w = World::with_structure(
+        let mut w = Simulator::with_structure(
             WorldKind::Free,
             Response::None,
             None,

@@ -23,17 +23,16 @@
 //!   a while on its plan (one certificate per object, its exit time); candidates are the
 //!   objects whose regions overlap, a superset of the sweep's. A re-plan that stays inside
 //!   the region costs one root computation, so it suits bodies whose plans keep failing.
-//! - [`Auto`]: the structure [`for_flights`] picks for the objects held so far, re-picked when
-//!   their sizes spread past its bounds (the library's default world).
-//! - [`Choice`]: every flight structure by name, and the measured rules that pick among them
-//!   ([`for_flights`] for exact event simulation, [`for_steps`] for a stepping engine).
+//!
+//! Which of them a scene gets is decided above this crate, in `kinetic-collide`'s registry
+//! of structures.
 //!
 //! ```
-//! use kinetic_core::{ContactKind, FlightPlan, Response, Vec3, World, WorldKind};
+//! use kinetic_core::{ContactKind, FlightPlan, Response, Simulator, Vec3, WorldKind};
 //! use kinetic_flight::{ConvexShape, Sweep};
 //!
 //! let mut world =
-//!     World::with_structure(WorldKind::Free, Response::None, None, Box::new(Sweep::new()))
+//!     Simulator::with_structure(WorldKind::Free, Response::None, None, Box::new(Sweep::new()))
 //!         .unwrap();
 //! // A unit cube at rest, and a ball of radius 0.5 flying at it along x.
 //! let cube = ConvexShape::cuboid(Vec3::splat(0.5)).unwrap().into_shape();
@@ -48,10 +47,8 @@
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
-mod auto;
 mod axes;
 mod cell_math;
-mod choose;
 mod cones;
 mod grid;
 mod guards;
@@ -59,17 +56,9 @@ mod loose;
 mod shape;
 mod sweep;
 
-pub use auto::Auto;
-pub use choose::{
-    CROSSING_COST, Choice, ELASTIC_BRUTE_MAX, GRID_SPREAD, HEAVY_PAIR_FACTOR, LOOSE_N,
-    LOOSE_N_SPREAD, LOOSE_SPREAD, OBJECT_COST, PAIR_COST, RESTING_CROSSINGS, RESTING_GRID_MAX,
-    RHO_MAX, SIGMA_MAX, SIZES_ALIKE, SWEEP_PASS_COST, barely_moving, brute_force_pays, for_flights,
-    for_steps, grid_crossing_share, guard_fatness, loose_spread, paper_choice, scale_factor,
-    spread, sweep_crossings,
-};
 pub use cones::{Cone, ConeSet};
 pub use grid::Grid;
-pub use guards::{GuardGrid, Guards};
+pub use guards::{GuardGrid, Guards, RHO_MAX};
 pub use loose::{LooseGrid, TRAVEL as LOOSE_TRAVEL};
 pub use shape::{ConvexShape, ShapeError, fatness};
 pub use sweep::Sweep;

@@ -150,7 +150,7 @@ impl Sweep {
 
 impl CandidateStructure for Sweep {
     fn name(&self) -> &'static str {
-        crate::Choice::Sweep.name()
+        "sweep"
     }
 
     fn insert(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>) {

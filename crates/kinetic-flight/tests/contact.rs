@@ -2,7 +2,7 @@
 //! linear motion, constant acceleration and spin.
 
 use kinetic_core::{
-    BruteForce, ContactEvent, ContactKind, FlightPlan, Quat, Response, Shape, Vec3, World,
+    BruteForce, ContactEvent, ContactKind, FlightPlan, Quat, Response, Shape, Vec3, Simulator,
     WorldKind,
 };
 use kinetic_flight::{ConvexShape, Sweep};
@@ -22,7 +22,7 @@ fn run(objects: &[(Shape, FlightPlan)], horizon: f64) -> Vec<ContactEvent> {
             Box::new(BruteForce::new())
         };
         let mut w =
-            World::with_structure(WorldKind::Free, Response::None, None, structure).unwrap();
+            Simulator::with_structure(WorldKind::Free, Response::None, None, structure).unwrap();
         w.add_objects(objects.iter().cloned()).unwrap();
         while w.step(horizon).unwrap().is_some() {
             w.validate().unwrap();

@@ -12,7 +12,6 @@
 //! structure from scratch. `--split P` adds a table of each side's broad-phase time in all over
 //! the steps before step P and from step P on (the rain: while it falls, and once it piles up).
 
-use kinetic_flight::Choice;
 use kinetic_rapier::KineticBroadPhase;
 use kinetic_scenes::engines::STANDARD;
 use kinetic_scenes::rapier::{RapierScene, standard};
@@ -97,9 +96,10 @@ fn median<T>(mut runs: Vec<(Row, T)>) -> (Row, T) {
 /// The kinetic broad phase, with the structure `KINETIC_STRUCTURE` names if any.
 fn kinetic() -> KineticBroadPhase {
     let named = std::env::var("KINETIC_STRUCTURE").ok();
-    match named.as_deref().and_then(Choice::from_name) {
-        Some(choice) => KineticBroadPhase::default().with_structure(choice),
-        None => KineticBroadPhase::default(),
+    match named.as_deref() {
+        Some("loose-grid") => KineticBroadPhase::default().with_loose_grid(true),
+        Some("grid") => KineticBroadPhase::default().with_loose_grid(false),
+        _ => KineticBroadPhase::default(),
     }
 }
 

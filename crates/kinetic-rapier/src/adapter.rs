@@ -3,8 +3,8 @@
 // `f64.rs`, each with its own `rapier` (rapier3d or rapier3d-f64).
 
 use kinetic_broad::{
-    BodyState, BroadPhaseCore, BroadPhaseStats, Choice, Engine, Hold, Key, PairEvent, Seen, Slack,
-    Step, StepStats,
+    BodyState, BroadPhaseCore, BroadPhaseStats, Engine, Bound, Key, PairEvent, ColliderStatus, Slack,
+    EngineStep, StepStats,
 };
 use kinetic_core::{Real, Vec3, prefetch};
 use rapier::prelude::*;
@@ -84,7 +84,7 @@ fn hold_of(
     bodies: &RigidBodySet,
     params: &IntegrationParameters,
     slack: Slack,
-) -> Hold {
+) -> Bound {
     let margin = margin_of(co, params);
     let moving = co
         .parent()
@@ -93,7 +93,7 @@ fn hold_of(
     match moving {
         None => {
             let aabb = co.compute_aabb();
-            Hold::fixed(dpoint(&aabb.mins), dpoint(&aabb.maxs), margin)
+            Bound::fixed(dpoint(&aabb.mins), dpoint(&aabb.maxs), margin)
         }
         Some((h, rb)) => {
             let sphere = co.shape().compute_bounding_sphere(co.position());
@@ -103,7 +103,7 @@ fn hold_of(
                 min: slack.min * params.length_unit as Real,
                 ..slack
             };
-            Hold::moving(body_key(h), reach, margin, slack)
+            Bound::moving(body_key(h), reach, margin, slack)
         }
     }
 }
@@ -117,12 +117,12 @@ impl Rapier<'_> {
 }
 
 impl Engine for Rapier<'_> {
-    fn collider(&self, c: Key, slack: Slack) -> Seen {
+    fn collider(&self, c: Key, slack: Slack) -> ColliderStatus {
         let h = ColliderHandle::from_raw_parts(c.index, c.generation);
         match self.colliders.get(h) {
-            None => Seen::Missing,
-            Some(co) if !co.is_enabled() => Seen::Disabled,
-            Some(co) => Seen::Held(hold_of(co, self.bodies, self.params, slack)),
+            None => ColliderStatus::Missing,
+            Some(co) if !co.is_enabled() => ColliderStatus::Disabled,
+            Some(co) => ColliderStatus::Held(hold_of(co, self.bodies, self.params, slack)),
         }
     }
 
@@ -184,7 +184,7 @@ impl BroadPhase for KineticBroadPhase {
             bodies,
             params,
         };
-        let step = Step {
+        let step = EngineStep {
             dt: params.dt as Real,
             substeps: params.num_solver_iterations.get() as Real,
         };
@@ -219,9 +219,10 @@ impl KineticBroadPhase {
         KineticBroadPhase::default()
     }
 
-    /// The same broad phase with the structure chosen by the caller.
-    pub fn with_structure(mut self, choice: Choice) -> KineticBroadPhase {
-        self.core = self.core.with_structure(choice);
+    /// The same broad phase with its proxies in the structure the caller chose, the loose
+    /// grid (`loose`) or the hierarchical grid, kept kinetic throughout.
+    pub fn with_loose_grid(mut self, loose: bool) -> KineticBroadPhase {
+        self.core = self.core.with_loose_grid(loose);
         self
     }
 

@@ -32,7 +32,7 @@
 //!
 //! ## What it does
 //!
-//! Each collider is a proxy in a kinetic structure ([`kinetic_broad::Hold`]): a ball about its
+//! Each collider is a proxy in a kinetic structure ([`kinetic_broad::Bound`]): a ball about its
 //! body's centre of mass when the body moves, its own box when the body is fixed. Every
 //! moving body has a flight plan fitted to rapier's integrator (position, velocity, and the
 //! acceleration it has shown two steps running: gravity and any other constant force). A body
@@ -81,7 +81,7 @@ pub mod f64;
 
 #[cfg(feature = "f32")]
 pub use f32::KineticBroadPhase;
-pub use kinetic_broad::{BroadPhaseStats, Choice, StepStats};
+pub use kinetic_broad::{BroadPhaseStats, StepStats};
 /// The rapier this broad phase plugs into (0.27, f32), as its types appear here.
 #[cfg(feature = "f32")]
 pub use rapier3d;

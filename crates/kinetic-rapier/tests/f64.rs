@@ -1,7 +1,6 @@
 //! The broad phase for rapier3d-f64 (feature `f64`): a pile settles as with rapier's own
 //! broad phase, far from the origin where f32 positions would be coarse.
 
-use kinetic_rapier::Choice;
 use kinetic_rapier::f64::KineticBroadPhase;
 use kinetic_rapier::rapier3d_f64::prelude::*;
 
@@ -69,7 +68,7 @@ fn a_pile_far_from_the_origin_settles_as_with_the_default_broad_phase() {
     for held in [false, true] {
         let mut ours = KineticBroadPhase::new().with_audit();
         if held {
-            ours = ours.with_structure(Choice::Loose);
+            ours = ours.with_loose_grid(true);
         }
         let (h1, t1) = run(&mut ours);
         assert_eq!(ours.audit_error(), None);

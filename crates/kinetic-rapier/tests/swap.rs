@@ -5,7 +5,6 @@
 mod common;
 
 use common::{Sim, ground, key};
-use kinetic_flight::Choice;
 use kinetic_rapier::KineticBroadPhase;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -89,34 +88,28 @@ fn against_default(
 }
 
 /// [`against_default`] with the structure `structure`.
-fn differential(seed: u64, n: usize, lo: f32, hi: f32, steps: usize, structure: Choice) {
-    let bp = against_default(
-        seed,
-        (n, lo, hi),
-        steps,
-        kinetic().with_structure(structure),
-    );
-    assert_eq!(bp.structure_name(), structure.name());
+fn differential(seed: u64, n: usize, lo: f32, hi: f32, steps: usize, loose: bool) {
+    let bp = against_default(seed, (n, lo, hi), steps, kinetic().with_loose_grid(loose));
+    let name = if loose { "loose-grid" } else { "grid" };
+    assert_eq!(bp.structure_name(), name);
 }
 
 #[test]
 fn kinematic_bodies_touch_as_with_the_default_broad_phase() {
     for seed in 0..3 {
-        differential(seed, 60, 0.3, 0.8, 150, Choice::Grid);
+        differential(seed, 60, 0.3, 0.8, 150, false);
     }
-    differential(3, 60, 0.3, 0.8, 150, Choice::Sweep);
     for seed in 4..6 {
-        differential(seed, 60, 0.3, 0.8, 150, Choice::Loose);
+        differential(seed, 60, 0.3, 0.8, 150, true);
     }
 }
 
 #[test]
 fn kinematic_debris_of_three_orders_of_size_touch_as_with_the_default_broad_phase() {
     for seed in 10..12 {
-        differential(seed, 80, 0.02, 3.0, 120, Choice::Grid);
+        differential(seed, 80, 0.02, 3.0, 120, false);
     }
-    differential(12, 80, 0.02, 3.0, 120, Choice::Guards);
-    differential(13, 80, 0.02, 3.0, 120, Choice::Loose);
+    differential(13, 80, 0.02, 3.0, 120, true);
 }
 
 /// Balls and boxes dropped in a heap onto a ground slab.
@@ -193,7 +186,7 @@ fn a_body_that_keeps_changing_course_gets_more_slack_and_gives_it_back_once_calm
         .insert(RigidBodyBuilder::kinematic_velocity_based().translation(vector![-3.0, 0.8, 0.0]));
     colliders.insert_with_parent(ColliderBuilder::ball(0.3).build(), shaker, &mut bodies);
     // Kinetic throughout (the structure named): the slack is what the plans have.
-    let bp = kinetic().with_structure(Choice::Loose);
+    let bp = kinetic().with_loose_grid(true);
     let mut sim = Sim::new(bodies, colliders, 9.81, bp);
     let mut growths_when_shaken = 0;
     for step in 0..400 {
@@ -352,8 +345,8 @@ fn a_shot_at_any_speed_costs_the_structure_an_event_a_step_and_meets_the_row_in_
     for (speed, choice) in [
         (1e6f32, None),
         (1e8, None),
-        (1e6, Some(Choice::Grid)),
-        (1e8, Some(Choice::Grid)),
+        (1e6, Some(false)),
+        (1e8, Some(false)),
     ] {
         let mut bodies = RigidBodySet::new();
         let mut colliders = ColliderSet::new();
@@ -377,7 +370,7 @@ fn a_shot_at_any_speed_costs_the_structure_an_event_a_step_and_meets_the_row_in_
         );
         let shot = colliders.insert_with_parent(ColliderBuilder::ball(0.05), h, &mut bodies);
         let bp = match choice {
-            Some(choice) => kinetic().with_structure(choice),
+            Some(loose) => kinetic().with_loose_grid(loose),
             None => kinetic(),
         };
         let mut sim = Sim::new(bodies, colliders, 0.0, bp);

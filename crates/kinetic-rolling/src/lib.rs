@@ -16,12 +16,12 @@
 //! second remark: fewer certificates touched per event, more events).
 //!
 //! ```
-//! use kinetic_core::{ContactKind, FlightPlan, Response, Vec3, World, WorldKind};
+//! use kinetic_core::{ContactKind, FlightPlan, Response, Vec3, Simulator, WorldKind};
 //! use kinetic_rolling::{ListLayout, RollingTree};
 //!
 //! let tree = RollingTree::new(ListLayout::PerNode);
 //! let mut world =
-//!     World::with_structure(WorldKind::Plane, Response::None, None, Box::new(tree)).unwrap();
+//!     Simulator::with_structure(WorldKind::Plane, Response::None, None, Box::new(tree)).unwrap();
 //! // A marble rolls into a big ball at rest: tangency points 2 sqrt(0.25 * 4) = 2 apart touch.
 //! world.add_ball(0.25, FlightPlan::linear(Vec3::ZERO, Vec3::X)).unwrap();
 //! world.add_ball(4.0, FlightPlan::at_rest(Vec3::new(5.0, 0.0, 0.0))).unwrap();

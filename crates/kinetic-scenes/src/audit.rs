@@ -1,12 +1,13 @@
 //! Helpers the tests share: runs audited after every event, and contact comparisons.
 
-use kinetic_collide::run::{StructureName, build_world};
+use kinetic_collide::run::build_world;
+use kinetic_collide::Structure;
 use kinetic_collide::scene::Scene;
 use kinetic_collide::{ContactEvent, ContactKind};
 use std::collections::BTreeMap;
 
 /// Runs `scene` with `structure`, auditing the world after every event.
-pub fn run_audited(scene: &Scene, structure: StructureName) -> Vec<ContactEvent> {
+pub fn run_audited(scene: &Scene, structure: Structure) -> Vec<ContactEvent> {
     let (mut world, _) = build_world(scene, Some(structure)).unwrap();
     world.validate().unwrap();
     while world.step(scene.horizon).unwrap().is_some() {

@@ -18,7 +18,8 @@
 
 use glam::DVec3;
 use kinetic_collide::scene::{Scene, SceneObject};
-use kinetic_collide::{PeriodicBox, Response, Walls, WorldKind};
+use kinetic_collide::spheres::PeriodicBox;
+use kinetic_collide::{Response, Walls, WorldKind};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;

@@ -6,7 +6,7 @@ use avian3d::collision::collider::contact_query;
 use avian3d::prelude::*;
 use bevy::prelude::*;
 use bevy::time::TimeUpdateStrategy;
-use kinetic_avian::{Choice, KineticBroadPhase, KineticBroadPhasePlugin};
+use kinetic_avian::{KineticBroadPhase, KineticBroadPhasePlugin};
 use std::collections::BTreeSet;
 use std::time::Duration;
 
@@ -16,7 +16,8 @@ use std::time::Duration;
 pub enum Broad {
     Default,
     Kinetic,
-    Structure(Choice),
+    /// The kinetic plugin with its proxies in the loose grid (`true`) or the grid.
+    LooseGrid(bool),
 }
 
 pub const HZ: f64 = 64.0;
@@ -34,10 +35,10 @@ pub fn app(broad: Broad) -> App {
                 .disable::<BvhBroadPhasePlugin>()
                 .add(KineticBroadPhasePlugin::new().with_audit()),
         ),
-        Broad::Structure(choice) => app.add_plugins(
+        Broad::LooseGrid(loose) => app.add_plugins(
             physics.disable::<BvhBroadPhasePlugin>().add(
                 KineticBroadPhasePlugin::new()
-                    .with_structure(choice)
+                    .with_loose_grid(loose)
                     .with_audit(),
             ),
         ),

@@ -5,13 +5,12 @@ use crate::motions::ByBody;
 use crate::pairs::PairBook;
 use crate::{Key, Slack};
 use kinetic_core::Real;
-use kinetic_flight::Choice;
 
 impl BroadPhaseCore {
     /// A broad phase that picks its structure from the first colliders it is given.
     pub fn new() -> BroadPhaseCore {
         BroadPhaseCore {
-            choice: None,
+            loose_grid: None,
             choice_given: false,
             stepped: None,
             meter: Default::default(),
@@ -44,9 +43,10 @@ impl BroadPhaseCore {
         }
     }
 
-    /// The same broad phase with the structure chosen by the caller.
-    pub fn with_structure(mut self, choice: Choice) -> BroadPhaseCore {
-        self.choice = Some(choice);
+    /// The same broad phase with its proxies in the structure the caller chose: the loose
+    /// grid (`loose`) or the hierarchical grid. It then stays kinetic.
+    pub fn with_loose_grid(mut self, loose: bool) -> BroadPhaseCore {
+        self.loose_grid = Some(loose);
         self.choice_given = true;
         self
     }

@@ -12,14 +12,14 @@
 //! An engine that gives no boxes ([`Engine::bounds`]) keeps every body on its plan.
 
 use super::{BroadPhaseCore, Motion};
-use crate::{Engine, Hold, Key};
+use crate::aabb::Aabb;
+use crate::{Engine, Bound, Key};
 use kinetic_core::{Real, Vec3};
 
 /// A fat box is grown by this share of its collider's box half-width on every side.
 const FAT_MARGIN: Real = 0.1;
 
 /// An axis-aligned box, `(min, max)`.
-type Aabb = (Vec3, Vec3);
 
 /// Collider box `lo..hi` swept by displacement `d`.
 fn swept(lo: Vec3, hi: Vec3, d: Vec3) -> (Vec3, Vec3) {
@@ -103,7 +103,7 @@ impl BroadPhaseCore {
 
     /// Fresh fat boxes for each collider of body `b`, moving at `v`, with their holds; `None`
     /// if the engine gives no boxes.
-    fn fat_boxes(&self, engine: &impl Engine, b: Key, v: Vec3) -> Option<Vec<(u32, Hold, Aabb)>> {
+    fn fat_boxes(&self, engine: &impl Engine, b: Key, v: Vec3) -> Option<Vec<(u32, Bound, Aabb)>> {
         let m = &self.motions[b];
         let (slack, dt) = (m.slack, self.clock.dt);
         m.colliders
@@ -128,8 +128,8 @@ impl BroadPhaseCore {
 
     /// The fat box of collider `i`, held by `hold`, when it joins a body held by fat boxes
     /// (`None` for any other).
-    pub(super) fn joining_box(&self, engine: &impl Engine, i: Key, hold: &Hold) -> Option<Aabb> {
-        let Hold::Moving { body, .. } = *hold else {
+    pub(super) fn joining_box(&self, engine: &impl Engine, i: Key, hold: &Bound) -> Option<Aabb> {
+        let Bound::Moving { body, .. } = *hold else {
             return None;
         };
         let m = self.motions.get(body).filter(|m| m.fat)?;

@@ -21,10 +21,9 @@ pub use stats::{BroadPhaseStats, StepStats};
 
 use crate::motions::ByBody;
 use crate::pairs::{PairBook, PairOut};
-use crate::{Hold, Key, Slack};
+use crate::{Bound, Key, Slack};
 use kinetic_core::kds::PairChange;
 use kinetic_core::{Body, CandidateStructure, FlightPlan, Real, Vec3};
-use kinetic_flight::Choice;
 use smallvec::SmallVec;
 
 /// Steps over which a body must stay within half its slack to be planned at rest.
@@ -57,7 +56,7 @@ type Structure = Box<dyn CandidateStructure + Send + Sync>;
 #[derive(Clone, Copy, Debug)]
 struct Proxy {
     key: Key,
-    hold: Hold,
+    hold: Bound,
     /// Grown to cover the time between its change and the structure's clock, until the
     /// positions reach this time.
     grown_until: Option<Real>,
@@ -113,7 +112,9 @@ struct Clock {
 /// The kinetic broad phase, for any engine: an adapter implements [`crate::Engine`] over its
 /// colliders and bodies and calls [`BroadPhaseCore::update`].
 pub struct BroadPhaseCore {
-    choice: Option<Choice>,
+    /// Whether the proxies live in the loose grid (else the hierarchical grid); `None` until
+    /// the first colliders decide.
+    loose_grid: Option<bool>,
     /// Whether the caller chose the structure (it then stays kinetic).
     choice_given: bool,
     /// The stepped mode's state while the world is stepped ([`mode`]).
@@ -164,8 +165,8 @@ impl Proxy {
     /// of its moving body (`u32::MAX` when fixed).
     fn mover(&self) -> (u32, u32) {
         let body = match self.hold {
-            Hold::Moving { body, .. } => body.index,
-            Hold::Fixed { .. } => u32::MAX,
+            Bound::Moving { body, .. } => body.index,
+            Bound::Fixed { .. } => u32::MAX,
         };
         (self.key.generation, body)
     }

@@ -25,7 +25,7 @@
 //! [`CALM_COUNTS`] prices running below [`BACK`] of it (more after kinetic stretches that did
 //! not last), at least [`DWELL`] steps after the last switch. A world starts stepped unless
 //! most of its bodies sleep. A world steps only when the broad phase picked the structure
-//! itself: a caller's choice ([`BroadPhaseCore::with_structure`]) stays kinetic.
+//! itself: a caller's choice ([`BroadPhaseCore::with_loose_grid`]) stays kinetic.
 //!
 //! The pairs the engine has are carried over at a switch: to the stepped grid's, with adds
 //! and deletes for the difference, and back to the kinetic book, which adopts those it holds
@@ -33,8 +33,8 @@
 
 use super::{BroadPhaseCore, REGION_MARGIN, REGION_STEPS};
 use crate::fat_pairs::FatPairs;
-use crate::stepped::Aabb;
-use crate::{Engine, Hold, Key, PairEvent};
+use crate::aabb::Aabb;
+use crate::{Engine, Bound, Key, PairEvent};
 use kinetic_core::{Real, Vec3};
 use kinetic_flight::LOOSE_TRAVEL;
 
@@ -208,7 +208,7 @@ impl Stepped {
                 self.boxes[i] = Some((b, ahead));
                 self.history[i] = Some((c, Some(d1)));
             }
-            // Seen for the first time: worked out from its body's velocity.
+            // ColliderStatus for the first time: worked out from its body's velocity.
             None => {
                 self.boxes[i] = None;
                 self.pending.push(i as u32);
@@ -235,7 +235,7 @@ impl BroadPhaseCore {
     /// Whether the world may step: the structure is the broad phase's own pick (made once
     /// the first colliders come).
     pub(super) fn may_step(&self) -> bool {
-        !self.choice_given && self.choice.is_some()
+        !self.choice_given && self.loose_grid.is_some()
     }
 
     /// Whether the world is stepped now.
@@ -423,8 +423,8 @@ impl BroadPhaseCore {
                 continue;
             }
             st.boxes[i] = Some(match p.hold {
-                Hold::Fixed { min, max } => ((min, max), Vec3::ZERO),
-                Hold::Moving { body, radius, .. } => {
+                Bound::Fixed { min, max } => ((min, max), Vec3::ZERO),
+                Bound::Moving { body, radius, .. } => {
                     let rb = engine.body(body);
                     let v = rb.map_or(Vec3::ZERO, |rb| rb.velocity);
                     let m = self.motions.get(body);

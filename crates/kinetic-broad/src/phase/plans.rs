@@ -3,7 +3,7 @@
 
 use super::{BroadPhaseCore, Motion};
 use super::{CALM_UPDATES, MAX_GROWTH, REST_STEPS, RESTLESS_RUN, RESTLESS_UPDATES};
-use crate::{BodyState, Engine, Hold, Key, Step, fit};
+use crate::{BodyState, Bound, Engine, EngineStep, Key, fit_plan};
 use kinetic_core::{FlightPlan, Real, Vec3};
 use smallvec::SmallVec;
 
@@ -20,7 +20,7 @@ impl Motion {
 
     /// Whether the body, at `x` with velocity `v` at time `t`, keeps its plan: within its
     /// slack of it now, and by the end of the step (`dt`) on the path the engine gives it if
-    /// nothing touches it ([`fit`], evaluated without building the plan).
+    /// nothing touches it ([`fit_plan`], evaluated without building the plan).
     pub(super) fn keeps_plan(&self, x: Vec3, v: Vec3, t: Real, dt: Real, substeps: Real) -> bool {
         let slack = self.slack_now();
         let slack2 = slack * slack;
@@ -78,10 +78,10 @@ impl BroadPhaseCore {
         g
     }
 
-    pub(super) fn own_reach(&self, hold: &Hold) -> Real {
+    pub(super) fn own_reach(&self, hold: &Bound) -> Real {
         let lag = self.clock.kds - self.clock.pos;
         match *hold {
-            Hold::Moving { body, .. } if lag > 0.0 => {
+            Bound::Moving { body, .. } if lag > 0.0 => {
                 reach_over(&self.motions[body].plan, self.clock.pos, lag)
             }
             _ => 0.0,
@@ -97,7 +97,7 @@ impl BroadPhaseCore {
         &mut self,
         h: Key,
         engine: &impl Engine,
-        step: Step,
+        step: EngineStep,
         first: bool,
     ) -> Option<bool> {
         let rb = engine.body(h)?;
@@ -105,14 +105,14 @@ impl BroadPhaseCore {
     }
 
     /// [`BroadPhaseCore::refit`] for body `h` in state `rb`, as the engine gives it now.
-    pub(super) fn refit_to(&mut self, h: Key, rb: &BodyState, step: Step, first: bool) -> bool {
+    pub(super) fn refit_to(&mut self, h: Key, rb: &BodyState, step: EngineStep, first: bool) -> bool {
         let t = self.clock.pos;
         let dt = self.clock.dt.max(step.dt);
         let m = self.motions.get_mut(h).expect("a motion");
         let (x, v) = (rb.centre, rb.velocity);
         let substeps = step.substeps;
         // Where the engine will put it by the end of the step if nothing touches it.
-        let ballistic = fit(x, v, m.steady_a, t, dt, substeps);
+        let ballistic = fit_plan(x, v, m.steady_a, t, dt, substeps);
         // A body that sleeps, or would stay within half its slack for the next
         // REST_STEPS steps (one resting in a pile), is planned at rest: its box ends then
         // stay put instead of swapping back and forth with its neighbours' as it jitters.

@@ -3,18 +3,18 @@
 
 use super::{BroadPhaseCore, Proxy, Structure};
 use super::{REGION_MARGIN, REGION_STEPS};
-use crate::{BodyState, Engine, Hold, Key, Step};
+use crate::{BodyState, Engine, Bound, Key, EngineStep};
 use kinetic_core::{Body, FlightPlan, Real, Shape, Vec3};
-use kinetic_flight::{Choice, ConvexShape, Grid, Guards, LooseGrid, Sweep};
+use kinetic_flight::{ConvexShape, Grid, LooseGrid};
 
 impl BroadPhaseCore {
     /// The structure's shape for collider `i` held by `hold`: its fat box if it has one.
-    fn shape(&self, i: u32, hold: &Hold, choice: Choice) -> Shape {
+    fn shape(&self, i: u32, hold: &Bound) -> Shape {
         if let Some((min, max)) = self.fat_box(i) {
-            return box_shape(min, max, choice);
+            return box_shape(min, max);
         }
         match *hold {
-            Hold::Moving {
+            Bound::Moving {
                 body,
                 radius,
                 slack,
@@ -28,7 +28,7 @@ impl BroadPhaseCore {
                     radius: radius + extra,
                 }
             }
-            Hold::Fixed { min, max } => box_shape(min, max, choice),
+            Bound::Fixed { min, max } => box_shape(min, max),
         }
     }
 
@@ -39,13 +39,13 @@ impl BroadPhaseCore {
 
     /// The structure's plan for collider `i` held by `hold`: at rest in its fat box's centre
     /// if it has one.
-    fn plan_of(&self, i: u32, hold: &Hold) -> FlightPlan {
+    fn plan_of(&self, i: u32, hold: &Bound) -> FlightPlan {
         if let Some((min, max)) = self.fat_box(i) {
             return FlightPlan::at_rest((min + max) / 2.0);
         }
         match *hold {
-            Hold::Fixed { min, max } => FlightPlan::at_rest((min + max) / 2.0),
-            Hold::Moving { body, .. } => self.motions[body].plan,
+            Bound::Fixed { min, max } => FlightPlan::at_rest((min + max) / 2.0),
+            Bound::Moving { body, .. } => self.motions[body].plan,
         }
     }
 
@@ -74,7 +74,7 @@ impl BroadPhaseCore {
         let proxy = self.proxies[i as usize].take().expect("held");
         self.held -= 1;
         self.movers[i as usize] = None;
-        if let Hold::Moving { body, .. } = proxy.hold
+        if let Bound::Moving { body, .. } = proxy.hold
             && let Some(m) = self.motions.get_mut(body)
         {
             m.colliders.retain(|c| *c != i);
@@ -99,9 +99,8 @@ impl BroadPhaseCore {
 
     /// Puts collider `i` with `hold` into the structure at its clock, grown by `grow` (a
     /// change that happened `kds - pos` before the structure's clock).
-    pub(super) fn put_in(&mut self, i: u32, hold: Hold, grow: Real) {
-        let choice = self.structure_choice();
-        let mut shape = self.shape(i, &hold, choice);
+    pub(super) fn put_in(&mut self, i: u32, hold: Bound, grow: Real) {
+        let mut shape = self.shape(i, &hold);
         if grow > 0.0 {
             shape = Shape::Ball {
                 radius: shape.outer_radius() + grow,
@@ -124,10 +123,10 @@ impl BroadPhaseCore {
         self.step.inserts += 1;
     }
 
-    /// The structure: the caller's, or the one picked for the first colliders, or the grid
-    /// before any.
-    fn structure_choice(&self) -> Choice {
-        self.choice.unwrap_or(Choice::Grid)
+    /// Whether the proxies live in the loose grid (the caller's choice, or the one made for
+    /// the first colliders), else in the hierarchical grid (before any).
+    fn in_loose_grid(&self) -> bool {
+        self.loose_grid.unwrap_or(false)
     }
 
     fn grow_slots(&mut self, i: u32) {
@@ -154,9 +153,9 @@ impl BroadPhaseCore {
     /// Adds the colliders `new` (enabled, not held, with their holds) at the positions' time.
     pub(super) fn install(
         &mut self,
-        new: &[(Key, Hold)],
+        new: &[(Key, Bound)],
         engine: &impl Engine,
-        step: Step,
+        step: EngineStep,
         update: u64,
     ) {
         if new.is_empty() {
@@ -164,15 +163,15 @@ impl BroadPhaseCore {
         }
         // Each moving hold's body read once. A moving hold whose body the engine does not
         // give breaks the contract: the collider waits until it is changed again.
-        let holds: Vec<(Key, Hold, Option<BodyState>)> = new
+        let holds: Vec<(Key, Bound, Option<BodyState>)> = new
             .iter()
             .filter_map(|&(h, hold)| match hold {
-                Hold::Moving { body, .. } => engine.body(body).map(|s| (h, hold, Some(s))),
-                Hold::Fixed { .. } => Some((h, hold, None)),
+                Bound::Moving { body, .. } => engine.body(body).map(|s| (h, hold, Some(s))),
+                Bound::Fixed { .. } => Some((h, hold, None)),
             })
             .collect();
-        if self.choice.is_none() {
-            self.choice = Some(pick_structure(&holds));
+        if self.loose_grid.is_none() {
+            self.loose_grid = Some(loose_grid_fits(&holds));
         }
         if self.structure.is_none() && !self.is_stepped() {
             // A world starts stepped, its first steps showing whether plans hold, unless most
@@ -187,7 +186,7 @@ impl BroadPhaseCore {
             if self.may_step() && 2 * asleep < moving.max(1) {
                 self.stepped = Some(Default::default());
             } else {
-                self.structure = Some(new_structure(self.structure_choice(), step.dt));
+                self.structure = Some(new_structure(self.in_loose_grid(), step.dt));
             }
         }
         // The tables grown once for the bulk, not copied over as they double.
@@ -195,8 +194,8 @@ impl BroadPhaseCore {
             self.grow_slots(last);
         }
         let bodies = holds.iter().filter_map(|(_, hold, _)| match hold {
-            Hold::Moving { body, .. } => Some(body.index as usize),
-            Hold::Fixed { .. } => None,
+            Bound::Moving { body, .. } => Some(body.index as usize),
+            Bound::Fixed { .. } => None,
         });
         if let Some(last) = bodies.max() {
             self.motions.reach(last);
@@ -206,7 +205,7 @@ impl BroadPhaseCore {
         for &(h, hold, state) in &holds {
             let i = h.index;
             self.grow_slots(i);
-            if let (Hold::Moving { body, slack, .. }, Some(state)) = (hold, state) {
+            if let (Bound::Moving { body, slack, .. }, Some(state)) = (hold, state) {
                 let fresh = !self.motions.contains(body);
                 if fresh {
                     let m = self.motion_for(body, &state, slack);
@@ -243,14 +242,13 @@ impl BroadPhaseCore {
         let grow = self.lag_growth();
         if grow == 0.0 {
             // Level with the structure's clock: all at once (an empty structure builds in bulk).
-            let choice = self.structure_choice();
             let ids: Vec<u32> = holds.iter().map(|(h, ..)| h.index).collect();
             let kinetic = !self.is_stepped();
             for (h, hold, _) in &holds {
                 let i = h.index as usize;
                 if kinetic {
                     self.bodies[i] = Some(Body {
-                        shape: self.shape(h.index, hold, choice),
+                        shape: self.shape(h.index, hold),
                         plan: self.plan_of(h.index, hold),
                     });
                 }
@@ -278,14 +276,13 @@ impl BroadPhaseCore {
     /// A fresh structure holding every proxy, at the structure's clock, level with the
     /// positions (a stepped world going back to kinetic).
     pub(super) fn build_structure(&mut self) {
-        let choice = self.structure_choice();
-        let mut s = new_structure(choice, self.clock.dt);
+        let mut s = new_structure(self.in_loose_grid(), self.clock.dt);
         let mut ids = Vec::new();
         self.body_slots();
         for i in 0..self.proxies.len() {
             let Some(p) = self.proxies[i] else { continue };
             self.bodies[i] = Some(Body {
-                shape: self.shape(i as u32, &p.hold, choice),
+                shape: self.shape(i as u32, &p.hold),
                 plan: self.plan_of(i as u32, &p.hold),
             });
             self.plans[i] = self.plans[i].wrapping_add(1);
@@ -300,40 +297,99 @@ impl BroadPhaseCore {
     }
 }
 
-/// A fresh, empty structure of kind `choice` for an engine stepping by `dt`.
-fn new_structure(choice: Choice, dt: Real) -> Structure {
-    match choice {
-        Choice::Sweep => Box::new(Sweep::new()),
-        Choice::Guards => Box::new(Guards::new(1.0)),
-        // Both grids give a fast body's region at least a step of flight: a shot then costs
-        // an event a step, not one per cell or per two widths it flies.
-        Choice::Grid => Box::new(Grid::new().with_least_flight(dt)),
-        Choice::Loose => Box::new(
+/// Moving bodies whose radii (the middle 98%) are within this factor get the loose grid:
+/// bodies re-planned every few steps keep their regions there (measured on rains and piles of
+/// alike sizes against debris fields of sizes spread over three orders, the rapier bench's
+/// scenes at 1e3 to 5e4 bodies).
+const SIZES_ALIKE: Real = 8.0;
+
+/// A fresh, empty structure for an engine stepping by `dt`: the loose grid, or the
+/// hierarchical grid.
+fn new_structure(loose: bool, dt: Real) -> Structure {
+    // Both grids give a fast body's region at least a step of flight: a shot then costs an
+    // event a step, not one per cell or per two widths it flies.
+    if loose {
+        Box::new(
             LooseGrid::new()
                 .with_margin(REGION_MARGIN)
                 .with_horizon(REGION_STEPS * dt)
                 .with_least_flight(dt),
-        ),
+        )
+    } else {
+        Box::new(Grid::new().with_least_flight(dt))
     }
 }
 
-/// The structure's shape for the box `min..max` at rest: a cuboid where the structure takes
-/// one, else the ball about it.
-fn box_shape(min: Vec3, max: Vec3, choice: Choice) -> Shape {
+/// The structure's shape for the box `min..max` at rest: the cuboid, or the ball about a box
+/// too thin to be one.
+fn box_shape(min: Vec3, max: Vec3) -> Shape {
     let half = (max - min) / 2.0;
-    match (choice, ConvexShape::cuboid(half)) {
-        (Choice::Sweep | Choice::Grid | Choice::Loose, Ok(cuboid)) => cuboid.into_shape(),
-        _ => Shape::Ball {
+    match ConvexShape::cuboid(half) {
+        Ok(cuboid) => cuboid.into_shape(),
+        Err(_) => Shape::Ball {
             radius: half.length().max(1e-9),
         },
     }
 }
 
-/// The structure for the first colliders `holds`, by the registry's rule for stepping
-/// engines ([`kinetic_flight::for_steps`]) over the moving ones' radii.
-fn pick_structure(holds: &[(Key, Hold, Option<BodyState>)]) -> Choice {
-    kinetic_flight::for_steps(holds.iter().filter_map(|(_, h, _)| match *h {
-        Hold::Moving { radius, .. } => Some(radius),
+/// Whether the first colliders `holds` go in the loose grid: the middle 98% of the moving
+/// ones' radii are within [`SIZES_ALIKE`] (a rain, a pile). Otherwise (a debris field, where
+/// small pieces drift as fast as large ones and would leave regions sized by their own width
+/// every few steps), and for none, the hierarchical grid.
+fn loose_grid_fits(holds: &[(Key, Bound, Option<BodyState>)]) -> bool {
+    sizes_alike(holds.iter().filter_map(|(_, h, _)| match *h {
+        Bound::Moving { radius, .. } => Some(radius),
         _ => None,
     }))
+}
+
+/// Whether the middle 98% of `radii` are within [`SIZES_ALIKE`] (false for none).
+fn sizes_alike(radii: impl IntoIterator<Item = Real>) -> bool {
+    let mut r: Vec<Real> = radii
+        .into_iter()
+        .filter(|r| *r > 0.0 && r.is_finite())
+        .collect();
+    if r.is_empty() {
+        return false;
+    }
+    // The radii at two ranks, each found in linear time (no need to sort them all).
+    let mut pick = |q: Real| {
+        let rank = ((r.len() - 1) as Real * q).round() as usize;
+        *r.select_nth_unstable_by(rank, Real::total_cmp).1
+    };
+    let (large, small) = (pick(0.99), pick(0.01));
+    large <= SIZES_ALIKE * small
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn loose_grid_for_alike_middle_sizes() {
+        assert!(!sizes_alike([]));
+        assert!(sizes_alike([1.0; 50]));
+        // One boulder among pebbles is outside the middle 98%.
+        let mut r = vec![1.0; 200];
+        r.push(1000.0);
+        assert!(sizes_alike(r.iter().copied()));
+        let spread_wide: Vec<Real> = (0..200).map(|i| 1.0 + i as Real).collect();
+        assert!(!sizes_alike(spread_wide));
+        // The ranks as a full sort gives them, on spreads either side of the line.
+        let mut both = [0; 2];
+        for k in 0..400u32 {
+            let spread = 1.0 + 14.0 * (k as Real / 400.0);
+            let n = 1 + (k as usize * 37) % 299;
+            let r: Vec<Real> = (0..n)
+                .map(|i| 1.0 + (spread - 1.0) * ((i * 7919 + k as usize) % n) as Real / n as Real)
+                .collect();
+            let mut sorted = r.clone();
+            sorted.sort_unstable_by(Real::total_cmp);
+            let at = |q: Real| sorted[((n - 1) as Real * q).round() as usize];
+            let want = at(0.99) <= SIZES_ALIKE * at(0.01);
+            assert_eq!(sizes_alike(r), want, "spread {spread}, {n} radii");
+            both[usize::from(want)] += 1;
+        }
+        assert!(both[0] > 0 && both[1] > 0, "{both:?}");
+    }
 }

@@ -2,7 +2,7 @@
 //! under a semi-implicit Euler integrator, coming to rest on it.
 
 use super::*;
-use crate::{BodyState, Engine, PairEvent, Seen, Step};
+use crate::{BodyState, Engine, PairEvent, ColliderStatus, EngineStep};
 
 /// A collider of the toy engine: a ball on a body, or a fixed box.
 #[derive(Clone, Copy)]
@@ -24,20 +24,20 @@ struct Toy {
     boxes: bool,
 }
 
-const STEP: Step = Step {
+const STEP: EngineStep = EngineStep {
     dt: 1.0 / 60.0,
     substeps: 1.0,
 };
 
 impl Engine for Toy {
-    fn collider(&self, c: Key, slack: Slack) -> Seen {
+    fn collider(&self, c: Key, slack: Slack) -> ColliderStatus {
         match self.colliders.iter().find(|(k, ..)| *k == c) {
-            None => Seen::Missing,
-            Some((_, _, false)) => Seen::Disabled,
+            None => ColliderStatus::Missing,
+            Some((_, _, false)) => ColliderStatus::Disabled,
             Some((_, Part::Ball { body, radius }, true)) => {
-                Seen::Held(Hold::moving(*body, *radius, 0.01, slack))
+                ColliderStatus::Held(Bound::moving(*body, *radius, 0.01, slack))
             }
-            Some((_, Part::Box { min, max }, true)) => Seen::Held(Hold::fixed(*min, *max, 0.01)),
+            Some((_, Part::Box { min, max }, true)) => ColliderStatus::Held(Bound::fixed(*min, *max, 0.01)),
         }
     }
 
@@ -220,7 +220,7 @@ fn bodies_at_rest_are_held_by_fat_boxes_until_they_move() {
     toy.boxes = true;
     // Kinetic throughout: the structure is the caller's.
     let mut core = BroadPhaseCore::new()
-        .with_structure(Choice::Loose)
+        .with_loose_grid(true)
         .with_audit();
     for _ in 0..120 {
         toy.step(&mut core);
@@ -367,7 +367,7 @@ fn a_stepped_world_hands_over_what_a_kinetic_one_does_on_a_calm_world() {
     a.boxes = true;
     b.boxes = true;
     let mut own = BroadPhaseCore::new().with_audit();
-    let mut kinetic = BroadPhaseCore::new().with_structure(Choice::Loose);
+    let mut kinetic = BroadPhaseCore::new().with_loose_grid(true);
     for _ in 0..120 {
         a.step(&mut own);
         b.step(&mut kinetic);

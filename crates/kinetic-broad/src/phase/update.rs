@@ -3,7 +3,7 @@
 
 use super::{BroadPhaseCore, StepStats};
 use crate::pairs::{Gate, PairOut, proxies_gate};
-use crate::{Engine, Hold, Key, PairEvent, Seen, Step};
+use crate::{Engine, Bound, Key, PairEvent, ColliderStatus, EngineStep};
 use kinetic_core::{FlightPlan, Real, Vec3};
 
 impl BroadPhaseCore {
@@ -14,7 +14,7 @@ impl BroadPhaseCore {
     /// are pushed onto `events`, sorted.
     pub fn update(
         &mut self,
-        step: Step,
+        step: EngineStep,
         engine: &impl Engine,
         modified_colliders: &[Key],
         removed_colliders: &[Key],
@@ -77,12 +77,12 @@ impl BroadPhaseCore {
                 }
             }
             let hold = match engine.collider(h, self.slack) {
-                Seen::Missing => continue,
-                Seen::Disabled => {
+                ColliderStatus::Missing => continue,
+                ColliderStatus::Disabled => {
                     self.remove_collider(h);
                     continue;
                 }
-                Seen::Held(hold) => hold,
+                ColliderStatus::Held(hold) => hold,
             };
             if !self.knows(h) {
                 new.push((h, hold));
@@ -94,7 +94,7 @@ impl BroadPhaseCore {
                 // A new shape, body or body type: held afresh.
                 self.detach(i as u32, false);
                 new.push((h, hold));
-            } else if let Hold::Moving { body, .. } = hold {
+            } else if let Bound::Moving { body, .. } = hold {
                 moved.push(body);
             }
         }

@@ -2,7 +2,7 @@
 
 use super::{BroadPhaseCore, Clock, Proxy};
 use crate::pairs::proxies_meet;
-use crate::{Engine, Hold, Key, Seen};
+use crate::{Engine, Bound, Key, ColliderStatus};
 use kinetic_core::{Body, Vec3};
 
 impl BroadPhaseCore {
@@ -26,7 +26,7 @@ impl BroadPhaseCore {
                 .map_err(|e| format!("{e}; window {} to {}", self.clock.pos, self.clock.kds))?;
         }
         for h in colliders {
-            if matches!(engine.collider(h, self.slack), Seen::Held(_)) && !self.knows(h) {
+            if matches!(engine.collider(h, self.slack), ColliderStatus::Held(_)) && !self.knows(h) {
                 return Err(format!("collider {h:?} is not held"));
             }
         }
@@ -82,8 +82,8 @@ impl BroadPhaseCore {
             .filter_map(|(i, p)| {
                 let p = p.as_ref()?;
                 let b = match p.hold {
-                    Hold::Fixed { min, max } => (min, max),
-                    Hold::Moving { .. } => engine.bounds(p.key)?,
+                    Bound::Fixed { min, max } => (min, max),
+                    Bound::Moving { .. } => engine.bounds(p.key)?,
                 };
                 Some((i as u32, b))
             })

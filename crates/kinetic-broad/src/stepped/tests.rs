@@ -2,19 +2,8 @@
 //! degenerate boxes, filed and swept.
 
 use super::*;
-
-/// A small deterministic generator.
-pub(crate) fn next(s: &mut u64) -> Real {
-    *s = s
-        .wrapping_mul(6364136223846793005)
-        .wrapping_add(1442695040888963407);
-    (*s >> 11) as Real / (1u64 << 53) as Real
-}
-
-/// A point of the unit cube from the same generator.
-pub(crate) fn next_vec(s: &mut u64) -> Vec3 {
-    Vec3::new(next(s), next(s), next(s))
-}
+use crate::aabb::{next, next_vec, overlapping};
+use kinetic_core::{Real, Vec3};
 
 /// Checks `grid`'s pairs of `items` against every pair's, and those of a copy that is
 /// swept where `grid` is not and the other way round.

@@ -9,7 +9,8 @@ mod write;
 pub use range::MAX_REACH;
 
 use glam::{DQuat, DVec3};
-use kinetic_core::{FlightPlan, PeriodicBox, Response, Walls, WorldKind};
+use kinetic_core::{FlightPlan, Response, Walls, WorldKind};
+use kinetic_spheres::PeriodicBox;
 
 /// The shape of a scene object.
 #[derive(Clone, Debug, PartialEq)]
@@ -130,7 +131,13 @@ pub type Result<T> = std::result::Result<T, SceneError>;
 impl Scene {
     /// The largest ratio between two objects' outer radii (1 for fewer than two objects).
     pub fn size_ratio(&self) -> f64 {
-        kinetic_flight::spread(self.objects.iter().map(|o| outer_radius(&o.shape)))
+        let (lo, hi) = self
+            .objects
+            .iter()
+            .map(|o| outer_radius(&o.shape))
+            .filter(|&r| r > 0.0)
+            .fold((f64::INFINITY, 0.0_f64), |(lo, hi), r| (lo.min(r), hi.max(r)));
+        if hi > 0.0 { hi / lo } else { 1.0 }
     }
 }
 

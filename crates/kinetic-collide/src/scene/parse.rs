@@ -3,7 +3,8 @@
 
 use super::{Result, Scene, SceneError, SceneObject, ShapeSpec};
 use glam::{DQuat, DVec3};
-use kinetic_core::{PeriodicBox, Response, Walls, WorldKind};
+use kinetic_core::{Response, Walls, WorldKind};
+use kinetic_spheres::PeriodicBox;
 use serde::de::{DeserializeSeed, Deserializer as _, IgnoredAny, MapAccess, SeqAccess, Visitor};
 use serde_json::{Map, Value};
 use std::fmt;

@@ -4,13 +4,11 @@
 //! Split by operation: `pairs.rs` (pair certificates and their contact state machine),
 //! `step.rs` (the event loop and the elastic response), `walls.rs`, `validate.rs`.
 
-pub(crate) mod cells;
-mod motion;
-mod pairs;
-pub(crate) mod periodic;
+pub(crate) mod motion;
+pub(crate) mod pairs;
 pub(crate) mod step;
 mod validate;
-mod walls;
+pub(crate) mod walls;
 
 use crate::body::{Body, Shape};
 use crate::brute_force::BruteForce;
@@ -18,9 +16,7 @@ use crate::math::{Real, Vec3};
 use crate::plan::FlightPlan;
 use crate::queue::EventQueue;
 use crate::structure::{CandidateStructure, PairChange};
-pub use cells::ElasticCells;
 pub use pairs::PairCertificate;
-pub use periodic::{Bulk, PeriodicBox, PeriodicSpheres};
 use std::collections::BTreeMap;
 
 /// Where objects move.
@@ -137,6 +133,14 @@ pub enum WorldError {
     /// No such object.
     #[error("object {0} is not in the world")]
     UnknownObject(u32),
+    /// A structure that cannot hold this world.
+    #[error("structure {structure}: {why}")]
+    UnsupportedStructure {
+        /// The structure's name.
+        structure: &'static str,
+        /// Why.
+        why: &'static str,
+    },
     /// Time would go backwards.
     #[error("cannot go back in time from {now} to {to}")]
     Backwards {
@@ -204,8 +208,8 @@ impl Stats {
 /// A world of moving objects whose contacts are detected kinetically.
 ///
 /// ```
-/// # use kinetic_core::{World, WorldKind, FlightPlan, Vec3, ContactKind};
-/// let mut world = World::new(WorldKind::Free);
+/// # use kinetic_core::{Simulator, WorldKind, FlightPlan, Vec3, ContactKind};
+/// let mut world = Simulator::new(WorldKind::Free);
 /// let a = world.add_ball(0.5, FlightPlan::linear(Vec3::ZERO, Vec3::X)).unwrap();
 /// let b = world.add_ball(0.5, FlightPlan::at_rest(Vec3::new(4.0, 0.0, 0.0))).unwrap();
 /// world.advance_to(10.0).unwrap();
@@ -216,7 +220,7 @@ impl Stats {
 /// # let _ = (a, b);
 /// ```
 #[derive(Debug)]
-pub struct World {
+pub struct Simulator {
     kind: WorldKind,
     response: Response,
     walls: Option<Walls>,
@@ -237,10 +241,10 @@ pub struct World {
     zeno: step::ZenoGuard,
 }
 
-impl World {
+impl Simulator {
     /// An empty world with no response, no walls and the brute-force structure.
-    pub fn new(kind: WorldKind) -> World {
-        World::with_structure(kind, Response::None, None, Box::new(BruteForce::new()))
+    pub fn new(kind: WorldKind) -> Simulator {
+        Simulator::with_structure(kind, Response::None, None, Box::new(BruteForce::new()))
             .expect("no walls are valid walls")
     }
 
@@ -250,7 +254,7 @@ impl World {
         response: Response,
         walls: Option<Walls>,
         structure: Box<dyn CandidateStructure>,
-    ) -> Result<World, WorldError> {
+    ) -> Result<Simulator, WorldError> {
         if let Some(w) = walls {
             let dims = if kind == WorldKind::Plane { 2 } else { 3 };
             if !(0..dims)
@@ -259,7 +263,7 @@ impl World {
                 return Err(WorldError::InvalidWalls);
             }
         }
-        let world = World {
+        let world = Simulator {
             kind,
             response,
             walls,

@@ -8,20 +8,20 @@ use crate::plan::FlightPlan;
 /// its fields in this order (the periodic structure's lanes read it as two 32-byte halves).
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
-pub(crate) struct Motion {
+pub struct Motion {
     /// When the motion starts.
-    pub(crate) t0: Real,
+    pub t0: Real,
     /// The centre at `t0`.
-    pub(crate) position: Vec3,
+    pub position: Vec3,
     /// The constant velocity.
-    pub(crate) velocity: Vec3,
+    pub velocity: Vec3,
     /// The ball's radius.
-    pub(crate) radius: Real,
+    pub radius: Real,
 }
 
 impl Motion {
     /// The linear part of `plan`, with `radius`.
-    pub(crate) fn of(plan: &FlightPlan, radius: Real) -> Motion {
+    pub fn of(plan: &FlightPlan, radius: Real) -> Motion {
         Motion {
             t0: plan.t0,
             position: plan.position,
@@ -32,7 +32,7 @@ impl Motion {
 
     /// The centre at `t`, as the plan gives it when it has no acceleration, bit for bit.
     #[inline]
-    pub(crate) fn at(&self, t: Real) -> Vec3 {
+    pub fn at(&self, t: Real) -> Vec3 {
         self.position + self.velocity * (t - self.t0)
     }
 }

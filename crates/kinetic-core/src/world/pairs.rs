@@ -10,7 +10,7 @@
 //! windows in which the shapes can touch at all; inside a window the contact search of
 //! [`crate::geometry`] finds the flips.
 
-use super::{ContactEvent, ContactKind, ObjectId, Response, World, WorldKind};
+use super::{ContactEvent, ContactKind, ObjectId, Response, Simulator, WorldKind};
 use crate::certificates::ball_ball_gap;
 use crate::geometry::{Found, Mover, search};
 use crate::math::Real;
@@ -22,7 +22,7 @@ use rustc_hash::FxHashMap;
 
 /// Where the next contact event of a polynomial gap comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Source {
+pub enum Source {
     /// At the moment the walk was made.
     Now,
     /// A root of the gap `f`.
@@ -33,7 +33,7 @@ pub(crate) enum Source {
 
 /// What the next event of a walk is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Due {
+pub enum Due {
     /// Contact begins (no response) or a collision happens (elastic).
     Begin,
     /// Contact ends.
@@ -47,7 +47,7 @@ pub(crate) enum Due {
 /// The cached roots of a gap polynomial `f` (and, for the elastic response, of `f'`) made at
 /// time `made`, and where the walk through them stands.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Walk {
+pub struct Walk {
     made: Real,
     f: Roots,
     g: Roots,
@@ -65,7 +65,7 @@ impl Walk {
     /// The contact walk of gap `f` (local time around `made`, at or before `now`) for an
     /// object pair in state `touching` at `now` under no response: begins, ends and grazes
     /// after `now`.
-    pub(crate) fn contact(f: &Poly, made: Real, now: Real, touching: bool) -> Walk {
+    pub fn contact(f: &Poly, made: Real, now: Real, touching: bool) -> Walk {
         let mut w = Walk::empty(made, roots_after_zero(f), Roots::default(), touching);
         w.skip_to(now);
         w.advance_contact();
@@ -75,7 +75,7 @@ impl Walk {
     /// The collision walk of gap `f` (local time around `made`) under the elastic response:
     /// the first time after `now` at which `f <= 0` and `f' < 0` (touching and approaching);
     /// grazes as [`Due::Graze`]. `f_now` is the same gap around `now`, for the state now.
-    pub(crate) fn elastic(f: &Poly, made: Real, now: Real, f_now: &Poly) -> Walk {
+    pub fn elastic(f: &Poly, made: Real, now: Real, f_now: &Poly) -> Walk {
         let g = f.derivative();
         let inside = f_now.sign_just_after_zero() < 0;
         let mut w = Walk::empty(made, roots_after_zero(f), roots_after_zero(&g), inside);
@@ -119,7 +119,7 @@ impl Walk {
     }
 
     /// Steps past the root that is due (after its event was processed) and finds the next.
-    pub(crate) fn consume(&mut self, response: Response) {
+    pub fn consume(&mut self, response: Response) {
         let Some((_, source, kind)) = self.due else {
             return;
         };
@@ -331,7 +331,7 @@ impl ShapeWalk {
 
 /// The gap polynomial of two balls (plans and radii) in local time around `t`.
 #[inline]
-pub(crate) fn ball_gap(
+pub fn ball_gap(
     kind: WorldKind,
     pa: &crate::FlightPlan,
     ra: Real,
@@ -354,7 +354,7 @@ pub(crate) fn ball_gap(
 /// around this time, which depends only on the plans, not on when a structure made the pair a
 /// candidate, so every structure finds the same roots, bit for bit.
 #[inline]
-pub(crate) fn canonical_base(pa: &crate::FlightPlan, pb: &crate::FlightPlan, now: Real) -> Real {
+pub fn canonical_base(pa: &crate::FlightPlan, pb: &crate::FlightPlan, now: Real) -> Real {
     pa.t0.max(pb.t0).min(now)
 }
 
@@ -434,7 +434,7 @@ impl PairTable {
     }
 }
 
-impl World {
+impl Simulator {
     /// The gap polynomial of a pair around the current time.
     pub(crate) fn gap(&self, a: u32, b: u32) -> Poly {
         self.gap_at(a, b, self.now)

@@ -3,11 +3,11 @@
 //! certificates.
 
 use super::pairs::Due;
-use super::{ContactKind, Response, World, WorldError};
+use super::{ContactKind, Response, Simulator, WorldError};
 use crate::math::{Real, Vec3};
 use crate::plan::FlightPlan;
 
-/// What one call to [`World::step`] processed.
+/// What one call to [`Simulator::step`] processed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum StepKind {
     /// An event of the candidate structure (its kind, e.g. `"swap"`).
@@ -24,7 +24,7 @@ const ZENO_PER_OBJECT: u64 = 1000;
 /// Counts the events at one instant: a run with more than [`ZENO_PER_OBJECT`] per object at
 /// the same time is a Zeno configuration.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct ZenoGuard {
+pub struct ZenoGuard {
     at: Real,
     count: u64,
 }
@@ -40,7 +40,7 @@ impl Default for ZenoGuard {
 
 impl ZenoGuard {
     /// One more event at `now` among `objects` objects, the last between `a` and `b`.
-    pub(crate) fn count(
+    pub fn count(
         &mut self,
         now: Real,
         objects: usize,
@@ -65,7 +65,7 @@ impl ZenoGuard {
     }
 }
 
-impl World {
+impl Simulator {
     /// The time of the next event (+infinity for none).
     pub fn next_event_time(&self) -> Real {
         self.structure
@@ -91,7 +91,7 @@ impl World {
     }
 
     /// Processes the next event if it happens at or before `until`; returns what it was.
-    /// Tests call [`World::validate`] between steps.
+    /// Tests call [`Simulator::validate`] between steps.
     pub fn step(&mut self, until: Real) -> Result<Option<StepKind>, WorldError> {
         let ts = self.structure.next_event_time();
         let tp = self.pair_queue.next_time();
@@ -212,7 +212,7 @@ impl World {
 /// The plans of two balls after an elastic collision at `now`: momentum exchanged along the
 /// line between the centres (between tangency points on a plane), masses proportional to
 /// radius cubed; `None` for balls that are not approaching (their velocities do not change).
-pub(crate) fn elastic_exchange(
+pub fn elastic_exchange(
     pa: &FlightPlan,
     ra: Real,
     pb: &FlightPlan,
@@ -226,23 +226,23 @@ pub(crate) fn elastic_exchange(
 
 /// An elastic exchange between two balls: their new velocities, and what the collision
 /// virial needs.
-pub(crate) struct Exchange {
+pub struct Exchange {
     /// Ball a's new velocity.
-    pub(crate) va: Vec3,
+    pub va: Vec3,
     /// Ball b's new velocity.
-    pub(crate) vb: Vec3,
+    pub vb: Vec3,
     /// The distance between the centres.
-    pub(crate) distance: Real,
+    pub distance: Real,
     /// a's change of velocity along the line from b to a (positive): a's impulse is its
     /// mass times this.
-    pub(crate) dv_a: Real,
+    pub dv_a: Real,
 }
 
 impl Exchange {
     /// Balls of radii `ra`, `rb` moving at `va`, `vb`, a's centre `d` from b's: momentum
     /// exchanged along `d`, masses proportional to radius cubed; `None` unless approaching.
     #[inline]
-    pub(crate) fn of(d: Vec3, va: Vec3, vb: Vec3, ra: Real, rb: Real) -> Option<Exchange> {
+    pub fn of(d: Vec3, va: Vec3, vb: Vec3, ra: Real, rb: Real) -> Option<Exchange> {
         let len = d.length();
         if len == 0.0 || !len.is_finite() {
             return None;

@@ -1,9 +1,9 @@
 //! The audit of the simulator.
 
-use super::{Response, World};
+use super::{Response, Simulator};
 use crate::math::Real;
 
-impl World {
+impl Simulator {
     /// Recomputes the invariants from scratch: the structure's own; every candidate pair
     /// scheduled at its due time, never in the past; and every pair of live objects that
     /// overlaps now is a candidate (the structure may not miss a contact).

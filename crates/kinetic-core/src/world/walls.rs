@@ -2,20 +2,23 @@
 //! scene. One certificate per ball: the earliest of its wall contacts.
 
 use super::pairs::{Due, Walk};
-use super::{Response, World};
+use super::{Response, Simulator};
 use crate::certificates::wall_gap;
 use crate::math::Real;
 use crate::poly::Poly;
 
 /// A ball's next wall contact: which axis, which side.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct WallHit {
+pub struct WallHit {
+    /// When the ball touches the wall.
     pub time: Real,
+    /// The axis the wall is across.
     pub axis: usize,
+    /// The wall at the upper end of that axis (else the lower).
     pub upper: bool,
 }
 
-impl World {
+impl Simulator {
     /// Recomputes the wall certificate of `id` (elastic response with walls only).
     pub(crate) fn refresh_walls(&mut self, id: u32) {
         let Some(walls) = self.walls.filter(|_| self.response == Response::Elastic) else {
@@ -53,7 +56,7 @@ impl World {
 
 /// The first wall contact of a ball of radius `r` with `plan` after `now` (grazes skipped: a
 /// ball grazing a wall does not bounce), over the first `dims` axes.
-pub(crate) fn wall_hit(
+pub fn wall_hit(
     plan: &crate::FlightPlan,
     r: Real,
     walls: &super::Walls,
@@ -109,7 +112,7 @@ fn walked_wall_time(w: &Poly, now: Real) -> Option<Real> {
 
 /// The plan of a ball that reaches a wall at `now`: its velocity across the wall reversed if
 /// it moves into it (rounding cannot make it turn twice).
-pub(crate) fn bounced(plan: &crate::FlightPlan, hit: WallHit, now: Real) -> crate::FlightPlan {
+pub fn bounced(plan: &crate::FlightPlan, hit: WallHit, now: Real) -> crate::FlightPlan {
     let mut v = plan.velocity_at(now);
     if (hit.upper && v[hit.axis] > 0.0) || (!hit.upper && v[hit.axis] < 0.0) {
         v[hit.axis] = -v[hit.axis];

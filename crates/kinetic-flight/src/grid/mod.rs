@@ -191,6 +191,13 @@ pub struct Grid {
 }
 
 impl Grid {
+    /// The finest cells and the ratio between levels the grid takes for objects of outer
+    /// radii `radii` (the smallest box width, and the power of two that spreads the middle
+    /// 98% of the widths over a few levels); `None` without a positive finite radius.
+    pub fn levels_for(radii: impl IntoIterator<Item = Real>) -> Option<(Real, Real)> {
+        crate::cell_math::levels_for(radii.into_iter().map(|r| 2.0 * r))
+    }
+
     /// An empty grid; its finest cells are sized by the first objects.
     pub fn new() -> Grid {
         Grid::default()

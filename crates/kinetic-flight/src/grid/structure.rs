@@ -6,7 +6,7 @@ use kinetic_core::{CandidateStructure, Real, Vec3};
 
 impl CandidateStructure for Grid {
     fn name(&self) -> &'static str {
-        crate::Choice::Grid.name()
+        "grid"
     }
 
     fn insert(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>) {

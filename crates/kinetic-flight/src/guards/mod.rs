@@ -60,7 +60,8 @@ pub use guard_grid::GuardGrid;
 
 use crate::axes::AxisLists;
 use crate::cones::ConeSet;
-use kinetic_core::Real;
+use crate::shape::fatness;
+use kinetic_core::{Real, Shape};
 use kinetic_core::kds::{EventQueue, OrderCertificate};
 use rustc_hash::{FxHashMap, FxHashSet};
 
@@ -157,6 +158,12 @@ impl Watch {
     }
 }
 
+/// The largest fatness the guard grids are built for: objects fatter than this (or than the
+/// fattest object, if less) are paired with every object instead of guarded. A grid for
+/// fatness rho has about (sqrt 3 (rho + 1)^2)^3 guards per object, so this caps the grid at
+/// 44 planes per axis.
+pub const RHO_MAX: Real = 4.0;
+
 /// The guards structure with cones (see the module notes).
 #[derive(Debug)]
 pub struct Guards {
@@ -220,6 +227,16 @@ impl Guards {
             box_events: 0,
             now: 0.0,
         }
+    }
+
+    /// The fatness to build the guard grids for, for objects `shapes`: the fattest object's,
+    /// at most [`RHO_MAX`] (1, a ball's, for none).
+    pub fn fatness_for<'a>(shapes: impl IntoIterator<Item = &'a Shape>) -> Real {
+        shapes
+            .into_iter()
+            .map(fatness)
+            .filter(|&f| f <= RHO_MAX)
+            .fold(1.0, Real::max)
     }
 
     /// The guard grid.

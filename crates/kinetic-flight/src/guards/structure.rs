@@ -7,7 +7,7 @@ use kinetic_core::{CandidateStructure, Real, Vec3};
 
 impl CandidateStructure for Guards {
     fn name(&self) -> &'static str {
-        crate::Choice::Guards.name()
+        "guards"
     }
 
     fn insert(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>) {

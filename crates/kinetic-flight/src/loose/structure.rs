@@ -8,7 +8,7 @@ use kinetic_core::{CandidateStructure, Real, Vec3};
 
 impl CandidateStructure for LooseGrid {
     fn name(&self) -> &'static str {
-        crate::Choice::Loose.name()
+        "loose-grid"
     }
 
     fn insert(&mut self, id: u32, bodies: &Bodies, now: Real, changes: &mut Vec<PairChange>) {

@@ -1,0 +1,223 @@
+//! The cost model that shortlists the default structure for a scene: what the brute force
+//! pays per pair against what a box structure pays per object, per crossing and per
+//! contact, and which box structure fits the spread of sizes. Its constants were measured
+//! on the choice family (`cargo bench --bench choice`, `docs/results/choice.md`); they are
+//! private to the registry and say in their docs what they were measured on.
+
+use super::Structure;
+use kinetic_core::Real;
+use kinetic_flight::Grid;
+
+/// Sizes (outer radii, largest over smallest) spread by at most this factor: the loose grid,
+/// in [`for_flights`], for many objects (measured fastest on balls of sizes 1:250 at 3e3 to
+/// 1e4, 1.3x to 2.2x the grid, and the grid 1.9x to 3.4x faster on sizes 1:1000: the bound
+/// is between the two). Fewer objects take the loose grid only within [`loose_spread`].
+pub(crate) const LOOSE_SPREAD: Real = 500.0;
+/// Below [`LOOSE_SPREAD`], the loose grid's bound for `n` objects in a free world:
+/// `LOOSE_N_SPREAD (n / LOOSE_N)^0.6`, within `LOOSE_N_SPREAD` and [`LOOSE_SPREAD`]. The
+/// loose grid's time over the grid's grows about as `spread^0.56` and shrinks about as
+/// `n^-0.33` (fitted on balls of sizes 1:100, 1:250 and 1:1000 at 300 to 1e4 objects): at
+/// 1:250 the grid is 1.4x faster at 300 objects and 1.2x at 1,000, the loose grid 1.3x
+/// faster at 3,000, and at 1:100 the loose grid is faster from 300 objects on.
+pub(crate) const LOOSE_N_SPREAD: Real = 100.0;
+/// See [`LOOSE_N_SPREAD`].
+pub(crate) const LOOSE_N: Real = 300.0;
+/// Sizes spread by at most this factor (and more than [`LOOSE_SPREAD`]): the hierarchical
+/// grid in a free world; beyond it, the sweep, in [`for_flights`] (the grid fastest on sizes
+/// 1:1000 at 1e3 to 1e4, the sweep on sizes 1:10^4: the bound is between the two).
+pub(crate) const GRID_SPREAD: Real = 3000.0;
+
+/// The brute force's cost per pair of balls moving linearly (its one certificate), in
+/// microseconds, fitted on the choice family at 10 to 300 objects.
+pub(crate) const PAIR_COST: Real = 0.28;
+/// How much more a heavier pair costs the brute force than a linear ball pair: cuboids and
+/// hulls (conservative advancement), accelerations (certificates of degree 4).
+pub(crate) const HEAVY_PAIR_FACTOR: Real = 2.0;
+/// A box structure's cost per object (its build), in microseconds, fitted on the choice
+/// family at 10 to 300 objects.
+pub(crate) const OBJECT_COST: Real = 2.8;
+/// A box structure's cost per crossing (an object travelling its own diameter: a region
+/// left, a box end passed, a cell crossed), in microseconds, fitted on the choice family.
+pub(crate) const CROSSING_COST: Real = 0.71;
+/// A box structure's cost per contact the objects make (a new candidate pair to certify), in
+/// microseconds, fitted on the gas and the dense gas at 100 and 300 objects (2% and 15% of
+/// space filled).
+pub(crate) const CONTACT_COST: Real = 1.2;
+/// Elastic scenes above this many objects never get the brute force: each bounce re-plans two
+/// objects, which costs it two certificates per object. Up to this many, the brute force
+/// costs least whatever the objects do: [`super::Auto`] holds it while it holds no more.
+pub(crate) const ELASTIC_BRUTE_MAX: usize = 32;
+
+/// Whether the brute force is the cheaper choice for `n` objects that cross their own size
+/// `crossings` times in all over the run (see [`super::scene_measures::crossings`]) and
+/// make about `contacts` contacts ([`super::scene_measures::contacts`]: more where they
+/// crowd): its `n (n - 1) / 2` pair certificates against a box structure's cost per object,
+/// per crossing and per contact. It is, for a few dozen objects, for a hundred that crowd,
+/// and for a few hundred that travel far on a long horizon without bouncing. `shapes`: some
+/// objects are cuboids or hulls; `elastic`: balls bounce.
+pub(crate) fn brute_force_pays(
+    n: usize,
+    crossings: Real,
+    contacts: Real,
+    shapes: bool,
+    elastic: bool,
+) -> bool {
+    if elastic && n > ELASTIC_BRUTE_MAX {
+        return false;
+    }
+    let pair = if shapes {
+        PAIR_COST * HEAVY_PAIR_FACTOR
+    } else {
+        PAIR_COST
+    };
+    let nf = n as Real;
+    let boxes = OBJECT_COST * nf + CROSSING_COST * crossings + CONTACT_COST * contacts.max(0.0);
+    pair * nf * (nf - 1.0) / 2.0 <= boxes
+}
+
+/// The structure for an exact event simulation of objects whose outer radii spread by
+/// `spread` (see [`spread`]), measured fastest on the choice family
+/// (`docs/results/choice.md`):
+///
+/// 1. objects that barely move (`resting`, see [`barely_moving`]) within [`GRID_SPREAD`]:
+///    the hierarchical grid, the cheapest to build;
+/// 2. within [`LOOSE_SPREAD`], and in a free world within [`loose_spread`] for `n` objects
+///    (the grid wins at wide spreads until the objects are many): the loose grid, one
+///    certificate per object;
+/// 3. within [`GRID_SPREAD`], in a free world: the hierarchical grid, exact box pairs level
+///    by level;
+/// 4. a wider spread, or a plane world (`plane`: balls rolling on a plane, whose discs the
+///    sweep's lists hold 1.5x to 4x faster than the grid at sizes 1:1000): the sweep, whose
+///    sorted lists do not care about sizes.
+///
+/// The guards are never picked: on every scene measured, one of the three is faster.
+pub(crate) fn for_flights(spread: Real, n: usize, resting: bool, plane: bool) -> Structure {
+    if resting && spread <= GRID_SPREAD {
+        Structure::Grid
+    } else if spread <= LOOSE_SPREAD && (plane || spread <= loose_spread(n)) {
+        Structure::LooseGrid
+    } else if spread <= GRID_SPREAD && !plane {
+        Structure::Grid
+    } else {
+        Structure::Sweep
+    }
+}
+
+/// The hierarchical grid's cell crossings per own-size crossing, relative to objects of alike
+/// sizes, for objects of outer radii `radii`. The grid files an object at the level whose
+/// cells are the first as wide as it, so its cells are 1 to `ratio` times its width for the
+/// grid's ratio between levels (`ratio` 2 for alike sizes, 16 for sizes 1:1000): over sizes
+/// spread evenly on a log scale, an object crosses `(1 - 1/ratio) / ln ratio` cells per
+/// own-size crossing. [`CROSSING_COST`] was fitted at `ratio` 2, so this is that share over
+/// its value at 2 (1 for alike sizes, 0.47 at `ratio` 16): what [`brute_force_pays`] weighs
+/// against the pairs where the grid is the box structure.
+pub(crate) fn grid_crossing_share(radii: impl IntoIterator<Item = Real>) -> Real {
+    let share = |ratio: Real| (1.0 - 1.0 / ratio) / ratio.ln();
+    Grid::levels_for(radii).map_or(1.0, |(_, ratio)| share(ratio) / share(2.0))
+}
+
+/// The sweep's cost per box end passed ([`super::scene_measures::passes`]), in
+/// microseconds: its sorted lists swap 1.1 to 1.5 times a pass, and a pass costs it 0.45 to
+/// 0.86 us on balls (the gas, sizes 1:1000 and 1:10^4, rolling balls 1:1000, at 100 to 1,000
+/// objects). Its own size does not matter to the sweep, so where sizes spread it passes far
+/// fewer ends than the small objects cross their own sizes.
+pub(crate) const SWEEP_PASS_COST: Real = 0.6;
+
+/// The sweep's `passes` as the crossings of [`brute_force_pays`] that cost the same.
+pub(crate) fn sweep_crossings(passes: Real) -> Real {
+    passes * SWEEP_PASS_COST / CROSSING_COST
+}
+
+/// The widest spread of sizes for which `n` objects in a free world get the loose grid (see
+/// [`LOOSE_N_SPREAD`]).
+pub(crate) fn loose_spread(n: usize) -> Real {
+    (LOOSE_N_SPREAD * (n as Real / LOOSE_N).powf(0.6)).clamp(LOOSE_N_SPREAD, LOOSE_SPREAD)
+}
+
+/// Objects that cross their own size fewer than this many times each, on average over the
+/// run, barely move: all a structure costs them is its build.
+pub(crate) const RESTING_CROSSINGS: Real = 0.1;
+/// The most objects at rest for which the grid's build is the cheapest; above, its memory (2 kB an
+/// object at rest, against the loose grid's 0.8 kB) costs more than its build saves.
+pub(crate) const RESTING_GRID_MAX: usize = 200_000;
+
+/// Whether `n` objects crossing their own size `crossings` times in all barely move (see
+/// [`RESTING_CROSSINGS`]) and are few enough for the grid ([`RESTING_GRID_MAX`]).
+pub(crate) fn barely_moving(n: usize, crossings: Real) -> bool {
+    n <= RESTING_GRID_MAX && crossings <= RESTING_CROSSINGS * n as Real
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flights_by_spread() {
+        let many = 100_000;
+        assert_eq!(for_flights(1.0, many, false, false), Structure::LooseGrid);
+        assert_eq!(for_flights(LOOSE_SPREAD, many, false, false), Structure::LooseGrid);
+        assert_eq!(
+            for_flights(LOOSE_SPREAD * 1.01, many, false, false),
+            Structure::Grid
+        );
+        assert_eq!(
+            for_flights(LOOSE_SPREAD * 1.01, many, false, true),
+            Structure::Sweep
+        );
+        assert_eq!(
+            for_flights(GRID_SPREAD * 1.01, many, false, false),
+            Structure::Sweep
+        );
+        assert_eq!(for_flights(1.0, many, true, false), Structure::Grid);
+        assert_eq!(for_flights(1.0, many, true, true), Structure::Grid);
+        assert_eq!(
+            for_flights(GRID_SPREAD * 1.01, many, true, false),
+            Structure::Sweep
+        );
+        // Sizes 1:250: the grid for a few hundred objects, the loose grid for thousands; on
+        // a plane the loose grid either way. Sizes 1:100: the loose grid for any number.
+        assert_eq!(for_flights(250.0, 300, false, false), Structure::Grid);
+        assert_eq!(for_flights(250.0, 1000, false, false), Structure::Grid);
+        assert_eq!(for_flights(250.0, 3000, false, false), Structure::LooseGrid);
+        assert_eq!(for_flights(250.0, 300, false, true), Structure::LooseGrid);
+        assert_eq!(for_flights(100.0, 10, false, false), Structure::LooseGrid);
+        assert_eq!(loose_spread(10), LOOSE_N_SPREAD);
+        assert_eq!(loose_spread(many), LOOSE_SPREAD);
+        assert!(barely_moving(1000, 50.0));
+        assert!(!barely_moving(1000, 500.0));
+        assert!(!barely_moving(1_000_000, 0.0));
+    }
+
+    #[test]
+    fn the_brute_force_for_few_objects_crowds_or_long_flights() {
+        assert!(brute_force_pays(10, 0.0, 0.0, false, false));
+        assert!(!brute_force_pays(100, 0.0, 0.0, false, false));
+        // 100 balls each crossing its size 60 times over the run.
+        assert!(brute_force_pays(100, 6000.0, 0.0, false, false));
+        assert!(!brute_force_pays(100, 2000.0, 0.0, true, false));
+        assert!(!brute_force_pays(100, 6000.0, 0.0, false, true));
+        assert!(!brute_force_pays(1000, 1e5, 0.0, false, false));
+        assert!(!brute_force_pays(30, 0.0, 0.0, true, false));
+        // 100 balls crossing their size 10 times each: in a sparse gas (2% of space filled,
+        // 0.12 contacts per crossing) a box structure; in a crowd (15%, 0.9) the brute force.
+        assert!(!brute_force_pays(100, 1000.0, 120.0, false, false));
+        assert!(brute_force_pays(100, 1000.0, 900.0, false, false));
+    }
+
+    #[test]
+    fn the_grid_crosses_fewer_cells_where_sizes_spread() {
+        assert_eq!(grid_crossing_share([]), 1.0);
+        // Alike sizes: levels a factor 2 apart, the share the crossing cost was fitted at.
+        assert_eq!(grid_crossing_share([1.0; 100]), 1.0);
+        // Sizes 1:1000, evenly on a log scale: levels 16 apart, cells about twice as wide
+        // as their objects on average against alike sizes.
+        let wide: Vec<Real> = (0..=300)
+            .map(|i| 0.005 * (1000.0 as Real).powf(i as Real / 300.0))
+            .collect();
+        let share = grid_crossing_share(wide.iter().copied());
+        assert!((share - 0.47).abs() < 0.01, "{share}");
+        // Sizes 1:64: levels 4 apart, between the two.
+        let mid = grid_crossing_share(wide.iter().map(|r| r.powf(0.6)));
+        assert!(share < mid && mid < 1.0, "{mid}");
+    }
+}

@@ -1,0 +1,16 @@
+//! The one home of the structure choice: every structure once ([`Structure`]: its name, what
+//! it applies to, how it is built), the default a scene gets ([`Structure::for_scene`]) and
+//! the one a [`crate::World`] starts with ([`Auto`]), and the cost model behind both, whose
+//! fitted constants stay private here. The command-line tool, `compare`, the library's scene
+//! runner, `World::new` and the benches all go through it.
+
+mod auto;
+mod cost;
+mod registry;
+mod scene_measures;
+mod scene_world;
+
+pub(crate) use auto::Auto;
+pub use registry::Structure;
+pub(crate) use registry::FLIGHT_PARTS;
+pub(crate) use scene_world::{cell_balls, periodic_balls};
