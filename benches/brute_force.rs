@@ -6,8 +6,8 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use kinetic_collide::Response;
-use kinetic_collide::run::run_scene;
 use kinetic_collide::Structure;
+use kinetic_collide::run::run_scene;
 use kinetic_scenes::BallScene;
 
 fn brute_force(c: &mut Criterion) {

@@ -10,8 +10,8 @@
 //! build alone makes n^2 / 2 certificates, and a budget stops runs only between events.
 //! Runs under 20 ms are the best of five.
 
-use kinetic_collide::run::{Stream, run_scene_streamed};
 use kinetic_collide::Structure;
+use kinetic_collide::run::{Stream, run_scene_streamed};
 use kinetic_scenes::choice::{ChoiceCase, KINDS, choice_scene, response_name, world_name};
 use std::ops::ControlFlow;
 use std::sync::Arc;
@@ -116,9 +116,7 @@ fn main() {
         let pick = Structure::for_scene(scene);
         let mut rows: Vec<(Structure, Timing)> = Vec::new();
         // The default's pick first: the others are then stopped at a few times its time.
-        let order = std::iter::once(pick).chain(
-            Structure::ALL.into_iter().filter(|&s| s != pick),
-        );
+        let order = std::iter::once(pick).chain(Structure::ALL.into_iter().filter(|&s| s != pick));
         for s in order {
             let named = only
                 .as_ref()

@@ -25,8 +25,8 @@
 //! is the process's (GNU time's maximum resident set). The table goes to standard output and
 //! the CSV to `--out` (default `docs/results/edmd.csv`).
 
-use kinetic_collide::spheres::PeriodicSpheres;
 use kinetic_collide::scene::outer_radius;
+use kinetic_collide::spheres::PeriodicSpheres;
 use kinetic_collide_cli::process::{peak_kb, run_child, timed};
 use kinetic_scenes::hard_spheres::HardSpheres;
 use std::fmt::Write as _;

@@ -8,8 +8,8 @@
 //! `cargo bench --bench flight` prints a markdown table; `-- --quick` stops at n = 1000.
 //! The brute force runs up to n = 1000 (it keeps n^2 / 2 certificates).
 
-use kinetic_collide::run::run_scene;
 use kinetic_collide::Structure;
+use kinetic_collide::run::run_scene;
 use kinetic_collide::scene::Scene;
 use kinetic_scenes::{FlightScene, NestScene};
 

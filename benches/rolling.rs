@@ -5,8 +5,8 @@
 //!
 //! `cargo bench --bench rolling` (add `-- --quick` for n = 1e3 and 1e4 only).
 
-use kinetic_collide::run::{RunOutput, run_scene};
 use kinetic_collide::Structure;
+use kinetic_collide::run::{RunOutput, run_scene};
 use kinetic_scenes::BallScene;
 
 fn main() {
@@ -31,10 +31,7 @@ fn main() {
         // The global lists make some fifty times the tree's events (every point passes every
         // box of every level); at n = 1e5 that is hours here, so they stop at 1e4.
         let variants: &[Structure] = if n <= 10_000 {
-            &[
-                Structure::RollingTree,
-                Structure::RollingGlobalLists,
-            ]
+            &[Structure::RollingTree, Structure::RollingGlobalLists]
         } else {
             &[Structure::RollingTree]
         };

@@ -41,7 +41,11 @@ const ERROR_FLOOR: f64 = 1e-10;
 /// kinetic structures first, then the time-stepped methods).
 const METHODS: [(&str, RGBColor, Marker); 13] = [
     ("rolling-tree", RGBColor(148, 103, 189), Marker::Circle),
-    ("rolling-global-lists", RGBColor(188, 189, 34), Marker::Square),
+    (
+        "rolling-global-lists",
+        RGBColor(188, 189, 34),
+        Marker::Square,
+    ),
     ("sweep", RGBColor(23, 190, 207), Marker::Triangle),
     ("guards", RGBColor(140, 86, 75), Marker::Diamond),
     ("grid", RGBColor(227, 119, 194), Marker::Square),
@@ -84,13 +88,24 @@ fn draw_marker<DB: DrawingBackend>(
     let r = 5;
     let result = match marker {
         Marker::Circle => area.draw(&Circle::new((x, y), r, fill)),
-        Marker::Square => area.draw(&Rectangle::new([(x - r + 1, y - r + 1), (x + r - 1, y + r - 1)], fill)),
-        Marker::Triangle => area.draw(&Polygon::new(vec![(x, y - r - 1), (x - r, y + r - 1), (x + r, y + r - 1)], fill)),
-        Marker::Diamond => area.draw(&Polygon::new(vec![(x, y - r - 1), (x + r, y), (x, y + r + 1), (x - r, y)], fill)),
+        Marker::Square => area.draw(&Rectangle::new(
+            [(x - r + 1, y - r + 1), (x + r - 1, y + r - 1)],
+            fill,
+        )),
+        Marker::Triangle => area.draw(&Polygon::new(
+            vec![(x, y - r - 1), (x - r, y + r - 1), (x + r, y + r - 1)],
+            fill,
+        )),
+        Marker::Diamond => area.draw(&Polygon::new(
+            vec![(x, y - r - 1), (x + r, y), (x, y + r + 1), (x - r, y)],
+            fill,
+        )),
         Marker::Cross => {
             let s = c.stroke_width(2);
             area.draw(&PathElement::new(vec![(x - r, y - r), (x + r, y + r)], s))
-                .and_then(|()| area.draw(&PathElement::new(vec![(x - r, y + r), (x + r, y - r)], s)))
+                .and_then(|()| {
+                    area.draw(&PathElement::new(vec![(x - r, y + r), (x + r, y - r)], s))
+                })
         }
     };
     result.map_err(|e| e.to_string())
@@ -155,7 +170,11 @@ fn legend(strip: &Area, rows: &[&Row]) -> Result<(), String> {
         };
         let width = 7 * name.len() as i32;
         strip
-            .draw(&Text::new(name, (x + 9, 13), ("sans-serif", 13).into_font().color(&c)))
+            .draw(&Text::new(
+                name,
+                (x + 9, 13),
+                ("sans-serif", 13).into_font().color(&c),
+            ))
             .map_err(|e| e.to_string())?;
         x += width + 30;
     }
@@ -170,7 +189,13 @@ impl Placed {
     /// Where a label `width` x `height` pixels goes beside the point at pixel `p`: the first
     /// of right, left, above and below that meets no label already placed and no point
     /// (each point is a 12-pixel box); `None` when all four do, and the label is left out.
-    fn place(&mut self, p: (i32, i32), width: i32, height: i32, points: &[(i32, i32)]) -> Option<(i32, i32)> {
+    fn place(
+        &mut self,
+        p: (i32, i32),
+        width: i32,
+        height: i32,
+        points: &[(i32, i32)],
+    ) -> Option<(i32, i32)> {
         let tries = [
             (p.0 + 8, p.1 - height / 2),
             (p.0 - 8 - width, p.1 - height / 2),
@@ -183,7 +208,9 @@ impl Placed {
         for (x, y) in tries {
             let rect = (x, y, x + width, y + height);
             let clear = self.0.iter().all(|&r| !meets(r, rect))
-                && points.iter().all(|&(px, py)| !meets((px - 6, py - 6, px + 6, py + 6), rect));
+                && points
+                    .iter()
+                    .all(|&(px, py)| !meets((px - 6, py - 6, px + 6, py + 6), rect));
             if clear {
                 self.0.push(rect);
                 return Some((x, y));
@@ -252,7 +279,12 @@ fn panel(
             let shown: Vec<(&Row, (i32, i32))> = rows
                 .iter()
                 .filter(|r| !x_of(r).is_nan())
-                .map(|r| (*r, chart.backend_coord(&(x_of(r), r.wall_seconds.max(1e-5)))))
+                .map(|r| {
+                    (
+                        *r,
+                        chart.backend_coord(&(x_of(r), r.wall_seconds.max(1e-5))),
+                    )
+                })
                 .collect();
             let points: Vec<(i32, i32)> = shown.iter().map(|(_, p)| *p).collect();
             let root = chart.plotting_area().strip_coord_spec();
@@ -270,7 +302,8 @@ fn panel(
                 if r.step != "exact" {
                     let label = r.step.clone();
                     let width = 7 * label.len() as i32;
-                    let local: Vec<(i32, i32)> = points.iter().map(|&(x, y)| (x - dx, y - dy)).collect();
+                    let local: Vec<(i32, i32)> =
+                        points.iter().map(|&(x, y)| (x - dx, y - dy)).collect();
                     if let Some(spot) = placed.place(at, width, 12, &local) {
                         let font = ("sans-serif", 12).into_font().color(&c);
                         root.draw(&Text::new(label, spot, font))?;

@@ -9,8 +9,8 @@
 
 use crate::rapier_run::{Broad, run_rapier};
 use crate::time_stepped::run_stepped;
-use kinetic_collide::run::{RunError, run_scene};
 use kinetic_collide::Structure;
+use kinetic_collide::run::{RunError, run_scene};
 use kinetic_collide::scene::Scene;
 use kinetic_core::{ContactEvent, ContactKind, Real, Response};
 use kinetic_scenes::families::{Case, Family};

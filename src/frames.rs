@@ -6,8 +6,8 @@
 //! instants). Optional overlays show what the structure is doing ([`Overlay`]).
 
 use glam::Vec3 as F3;
-use kinetic_collide::run::{RunError, RunOutput, Stream, holding_events, run_scene_streamed};
 use kinetic_collide::Structure;
+use kinetic_collide::run::{RunError, RunOutput, Stream, holding_events, run_scene_streamed};
 use kinetic_collide::scene::{Scene, ShapeSpec};
 use kinetic_collide::{World, WorldKind};
 use kinetic_render::{AdapterChoice, Camera, HullMesh, Instance, RenderError, Renderer, Snapshot};

@@ -3,8 +3,8 @@
 use clap::builder::PossibleValuesParser;
 use clap::{Parser, Subcommand};
 use kinetic_collide::ContactEvent;
-use kinetic_collide::run::{RunError, Stream, push_event_line};
 use kinetic_collide::Structure;
+use kinetic_collide::run::{RunError, Stream, push_event_line};
 use kinetic_collide::scene::Scene;
 use kinetic_collide_cli::frames::{
     FrameSpec, Overlay, render_series, run_with_snapshots, run_with_snapshots_streamed, write_run,

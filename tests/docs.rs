@@ -6,7 +6,15 @@
 
 use std::path::{Path, PathBuf};
 
-const ROOTS: [&str; 7] = ["crates/", "docs/", "src/", "tests/", "benches/", "examples/", ".ci/"];
+const ROOTS: [&str; 7] = [
+    "crates/",
+    "docs/",
+    "src/",
+    "tests/",
+    "benches/",
+    "examples/",
+    ".ci/",
+];
 
 /// The markdown files to check: the README, the CHANGELOG, and every `.md` under `docs/`.
 fn documents(root: &Path) -> Vec<PathBuf> {
@@ -39,7 +47,9 @@ fn cited_paths(text: &str) -> Vec<String> {
         if !(ROOTS.iter().any(|r| span.starts_with(r)) || crate_dir) {
             continue;
         }
-        if span.contains(['*', '<', '>', '{', '}', '$']) || span.chars().any(|c| c.is_ascii_uppercase()) && !span.ends_with(".md") {
+        if span.contains(['*', '<', '>', '{', '}', '$'])
+            || span.chars().any(|c| c.is_ascii_uppercase()) && !span.ends_with(".md")
+        {
             continue;
         }
         out.push(span.to_string());
@@ -58,12 +68,22 @@ fn every_path_the_docs_cite_exists() {
             checked += 1;
             let found = root.join(&path).exists() || root.join("crates").join(&path).exists();
             if !found {
-                missing.push(format!("{}: `{path}`", doc.strip_prefix(root).unwrap().display()));
+                missing.push(format!(
+                    "{}: `{path}`",
+                    doc.strip_prefix(root).unwrap().display()
+                ));
             }
         }
     }
-    assert!(checked > 20, "the docs cite {checked} paths: the scan finds too few");
-    assert!(missing.is_empty(), "paths cited that do not exist:\n{}", missing.join("\n"));
+    assert!(
+        checked > 20,
+        "the docs cite {checked} paths: the scan finds too few"
+    );
+    assert!(
+        missing.is_empty(),
+        "paths cited that do not exist:\n{}",
+        missing.join("\n")
+    );
 }
 
 #[test]
@@ -72,6 +92,9 @@ fn the_scan_finds_paths_and_skips_placeholders() {
                 `kinetic-rolling/src/tree.rs`, `cargo test`, `out/frames/` and `docs/FILE`";
     assert_eq!(
         cited_paths(text),
-        ["crates/kinetic-core/src/plan.rs", "kinetic-rolling/src/tree.rs"]
+        [
+            "crates/kinetic-core/src/plan.rs",
+            "kinetic-rolling/src/tree.rs"
+        ]
     );
 }

@@ -3,8 +3,8 @@
 //! `World::validate` after every event against the brute force, and checks the case's own
 //! claim; where it shows how a time-stepped method fails, it asserts that too.
 
-use kinetic_collide::run::{build_world, run_scene};
 use kinetic_collide::Structure;
+use kinetic_collide::run::{build_world, run_scene};
 use kinetic_collide::scene::Scene;
 use kinetic_collide::{ContactEvent, ContactKind, World, WorldError};
 use kinetic_collide_cli::compare::score;
@@ -13,11 +13,7 @@ use kinetic_scenes::families::{Case, Family};
 
 use kinetic_scenes::audit::{assert_same_contacts, run_audited as audited};
 
-const FREE: [Structure; 3] = [
-    Structure::Sweep,
-    Structure::Guards,
-    Structure::Grid,
-];
+const FREE: [Structure; 3] = [Structure::Sweep, Structure::Guards, Structure::Grid];
 
 /// Every structure gives the brute force's contacts (per pair the same kinds in the same
 /// order, times within the scene format's 1e-7 * max(1, |t|)); returns the brute force's log.

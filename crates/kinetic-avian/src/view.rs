@@ -8,7 +8,7 @@ use avian3d::prelude::*;
 use bevy::ecs::entity::EntityGeneration;
 use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
-use kinetic_broad::{BodyState, Engine, Bound, Key, ColliderStatus, Slack, EngineStep};
+use kinetic_broad::{BodyState, Bound, ColliderStatus, Engine, EngineStep, Key, Slack};
 use kinetic_core::{Real, Vec3};
 
 /// An entity as a key: its index and generation.

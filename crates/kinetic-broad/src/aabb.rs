@@ -42,7 +42,6 @@ pub(crate) fn overlapping(a: &Aabb, b: &Aabb) -> bool {
     overlap(&to_f32(a), &to_f32(b))
 }
 
-
 /// A small deterministic generator for the tests (a linear congruential step): a number in
 /// `[0, 1)`.
 #[cfg(test)]

@@ -25,15 +25,15 @@
 #![forbid(unsafe_code)]
 
 mod aabb;
+mod bound;
 mod engine;
 mod fat_pairs;
-mod bound;
 mod motions;
 mod pairs;
 mod phase;
-mod stepped;
 mod sort_and_sweep;
+mod stepped;
 
-pub use engine::{BodyState, Engine, Key, PairEvent, ColliderStatus, EngineStep};
 pub use bound::{Bound, Slack, fit_plan};
+pub use engine::{BodyState, ColliderStatus, Engine, EngineStep, Key, PairEvent};
 pub use phase::{BroadPhaseCore, BroadPhaseStats, StepStats};

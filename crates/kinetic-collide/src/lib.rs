@@ -101,7 +101,7 @@ pub mod kds {
         Body, BruteForce, CandidateStructure, MAX_MAGNITUDE, Real, Simulator, elastic,
     };
     pub use kinetic_flight::{
-        Cone, ConeSet, GuardGrid, Grid, Guards, LooseGrid, RHO_MAX, ShapeError, Sweep, fatness,
+        Cone, ConeSet, Grid, GuardGrid, Guards, LooseGrid, RHO_MAX, ShapeError, Sweep, fatness,
     };
     pub use kinetic_rolling::{ListLayout, RollingTree};
 }

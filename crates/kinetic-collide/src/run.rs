@@ -464,7 +464,7 @@ pub fn build_world(
         .build(scene.world, &shapes, least_flight)
         .map_err(|why| RunError::Input(format!("--structure {name}: {why}")))?;
     let mut world = World::with_candidates(scene.world, scene.response, scene.walls, candidates)
-    .map_err(|e| RunError::Input(format!("walls: {e}")))?;
+        .map_err(|e| RunError::Input(format!("walls: {e}")))?;
     world
         .add_objects(
             shapes

@@ -9,11 +9,11 @@
 //! else is the simulator's own: this type derefs to it, and forwards the methods that change
 //! the world itself, so that `world.advance_to(world.now() + 1.0)` borrows as it reads.
 
+use crate::structures::{Auto, Structure};
 use kinetic_core::{
     Body, CandidateStructure, ContactEvent, FlightPlan, ObjectId, Real, Response, Shape, StepKind,
     Walls, WorldError, WorldKind,
 };
-use crate::structures::{Auto, Structure};
 use std::ops::{Deref, DerefMut};
 
 /// A world of moving objects: add objects with flight plans, change plans, advance, drain the
@@ -49,12 +49,13 @@ impl World {
         walls: Option<Walls>,
         structure: Structure,
     ) -> Result<World, WorldError> {
-        let candidates = structure.build(kind, &[], 0.0).map_err(|why| {
-            WorldError::UnsupportedStructure {
-                structure: structure.name(),
-                why,
-            }
-        })?;
+        let candidates =
+            structure
+                .build(kind, &[], 0.0)
+                .map_err(|why| WorldError::UnsupportedStructure {
+                    structure: structure.name(),
+                    why,
+                })?;
         World::with_candidates(kind, response, walls, candidates)
     }
 

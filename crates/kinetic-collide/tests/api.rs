@@ -1,8 +1,8 @@
 //! The library's surface as a user meets it: the world and every structure can move to
 //! another thread or sit in a shared resource, and errors convert with `?` across crates.
 
-use kinetic_collide::run::RunError;
 use kinetic_collide::kds::{BruteForce, Grid, Guards, LooseGrid, RollingTree, Sweep};
+use kinetic_collide::run::RunError;
 use kinetic_collide::scene::Scene;
 use kinetic_collide::{ConvexShape, FlightPlan, Structure, Vec3, World, WorldError, WorldKind};
 
@@ -120,8 +120,7 @@ fn a_zeno_trap_at_a_wall_names_the_object_and_the_wall() {
 fn every_structure_by_name_builds_a_world_or_says_why_not() {
     for s in Structure::ALL {
         for kind in [WorldKind::Free, WorldKind::Plane] {
-            let built =
-                World::with_structure(kind, kinetic_collide::Response::None, None, s);
+            let built = World::with_structure(kind, kinetic_collide::Response::None, None, s);
             let applies = match s {
                 Structure::Cells | Structure::Periodic => false,
                 Structure::RollingTree | Structure::RollingGlobalLists => kind == WorldKind::Plane,
@@ -155,16 +154,24 @@ fn the_root_exports_at_most_25_names_each_once() {
         if depth == 0 && (code.starts_with("pub use") || code.starts_with("pub mod")) {
             statement.clear();
         }
-        if depth == 0 && (code.starts_with("pub use") || code.starts_with("pub mod") || !statement.is_empty()) {
+        if depth == 0
+            && (code.starts_with("pub use") || code.starts_with("pub mod") || !statement.is_empty())
+        {
             statement.push_str(code);
             statement.push(' ');
             if code.ends_with(';') || code.ends_with('{') {
-                let s = statement.trim().trim_end_matches(['{', ';']).trim().to_string();
+                let s = statement
+                    .trim()
+                    .trim_end_matches(['{', ';'])
+                    .trim()
+                    .to_string();
                 statement.clear();
                 if let Some(m) = s.strip_prefix("pub mod ") {
                     names.push(m.to_string());
                 } else if let Some(u) = s.strip_prefix("pub use ") {
-                    let inner = u.split_once('{').map_or(u, |(_, rest)| rest.trim_end_matches('}'));
+                    let inner = u
+                        .split_once('{')
+                        .map_or(u, |(_, rest)| rest.trim_end_matches('}'));
                     for item in inner.split(',') {
                         let item = item.trim();
                         if item.is_empty() {
@@ -180,7 +187,11 @@ fn the_root_exports_at_most_25_names_each_once() {
         depth -= code.matches('}').count().min(depth);
     }
     assert!(names.len() >= 10, "the scan found {names:?}");
-    assert!(names.len() <= 25, "{} names at the root: {names:?}", names.len());
+    assert!(
+        names.len() <= 25,
+        "{} names at the root: {names:?}",
+        names.len()
+    );
     let mut sorted = names.clone();
     sorted.sort();
     sorted.dedup();

@@ -1,8 +1,8 @@
 //! The cell grid for elastic balls in walls (`cells`): against the event-driven brute force,
 //! audited after every event, and over a million collisions of a hard-sphere gas.
 
-use kinetic_collide::run::run_scene;
 use kinetic_collide::Structure;
+use kinetic_collide::run::run_scene;
 use kinetic_collide::scene::{Scene, outer_radius};
 use kinetic_collide::spheres::ElasticCells;
 use kinetic_collide::{ContactEvent, Response, WorldKind};

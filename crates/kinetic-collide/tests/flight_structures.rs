@@ -4,8 +4,8 @@
 //! overlapping pair is missing) after every event.
 
 use glam::{DQuat, DVec3};
-use kinetic_collide::run::run_scene;
 use kinetic_collide::Structure;
+use kinetic_collide::run::run_scene;
 use kinetic_collide::scene::{Scene, SceneObject, ShapeSpec};
 use kinetic_collide::{ContactKind, Response, WorldKind};
 use kinetic_scenes::{FlightScene, NestScene, ShapeMix};
@@ -48,11 +48,7 @@ fn free(objects: Vec<SceneObject>, horizon: f64) -> Scene {
 }
 
 /// Every free-flight structure.
-const FREE: [Structure; 3] = [
-    Structure::Sweep,
-    Structure::Guards,
-    Structure::Grid,
-];
+const FREE: [Structure; 3] = [Structure::Sweep, Structure::Guards, Structure::Grid];
 
 fn scene(n: usize, sigma: f64, shapes: ShapeMix, seed: u64) -> FlightScene {
     FlightScene {

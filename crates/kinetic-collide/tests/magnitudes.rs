@@ -3,8 +3,8 @@
 //! lengths from 1e-100 to 1e100, cuboids from 1e-3 to 1e6; a scene beyond the range the tool
 //! computes exactly is refused.
 
-use kinetic_collide::run::run_scene;
 use kinetic_collide::Structure;
+use kinetic_collide::run::run_scene;
 use kinetic_collide::scene::{MAX_REACH, Scene, SceneObject, ShapeSpec};
 use kinetic_collide::{ContactEvent, Response, WorldKind};
 use kinetic_scenes::audit::assert_same_contacts;

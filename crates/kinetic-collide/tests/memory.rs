@@ -2,8 +2,8 @@
 //! counted by a wrapping allocator, is the same for a run fifteen times as long.
 
 use kinetic_collide::ContactEvent;
-use kinetic_collide::run::{Stream, run_scene_streamed};
 use kinetic_collide::Structure;
+use kinetic_collide::run::{Stream, run_scene_streamed};
 use kinetic_scenes::HardSpheres;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::ops::ControlFlow;
@@ -74,11 +74,7 @@ fn peak_of_run(collisions: f64, structure: Structure) -> (usize, u64) {
 
 #[test]
 fn a_streamed_run_holds_no_more_for_more_events() {
-    for structure in [
-        Structure::Cells,
-        Structure::Grid,
-        Structure::Periodic,
-    ] {
+    for structure in [Structure::Cells, Structure::Grid, Structure::Periodic] {
         let (short, short_events) = peak_of_run(2e4, structure);
         let (long, long_events) = peak_of_run(3e5, structure);
         assert!(

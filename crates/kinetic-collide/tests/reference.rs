@@ -1,8 +1,8 @@
 //! The brute-force reference on seeded random scenes, against direct overlap tests at sample
 //! times: the contact state implied by the event log must match the geometry.
 
-use kinetic_collide::run::build_world;
 use kinetic_collide::Structure;
+use kinetic_collide::run::build_world;
 use kinetic_collide::{ContactKind, ObjectId, Response, World, WorldKind};
 use kinetic_scenes::BallScene;
 use std::collections::BTreeSet;

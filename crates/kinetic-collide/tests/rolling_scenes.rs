@@ -2,8 +2,8 @@
 //! seeded random plane scenes, with `validate()` after every event, plus named degenerate
 //! cases.
 
-use kinetic_collide::run::build_world;
 use kinetic_collide::Structure;
+use kinetic_collide::run::build_world;
 use kinetic_collide::scene::{Scene, SceneObject};
 use kinetic_collide::{ContactEvent, Response, Vec3, World, WorldKind};
 use kinetic_scenes::BallScene;

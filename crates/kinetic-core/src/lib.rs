@@ -44,6 +44,6 @@ pub use prefetch::{prefetch, prefetch_all};
 pub use structure::CandidateStructure;
 pub use world::step::StepKind;
 pub use world::{
-    ContactEvent, ContactKind, MAX_MAGNITUDE, ObjectId, Response, Stats, Walls, Simulator, WorldError,
-    WorldKind,
+    ContactEvent, ContactKind, MAX_MAGNITUDE, ObjectId, Response, Simulator, Stats, Walls,
+    WorldError, WorldKind,
 };

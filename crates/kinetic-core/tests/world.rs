@@ -2,7 +2,7 @@
 //! `validate()` after every event.
 
 use kinetic_core::{
-    BruteForce, ContactEvent, ContactKind, FlightPlan, ObjectId, Response, Vec3, Walls, Simulator,
+    BruteForce, ContactEvent, ContactKind, FlightPlan, ObjectId, Response, Simulator, Vec3, Walls,
     WorldError, WorldKind,
 };
 

@@ -2,7 +2,7 @@
 //! linear motion, constant acceleration and spin.
 
 use kinetic_core::{
-    BruteForce, ContactEvent, ContactKind, FlightPlan, Quat, Response, Shape, Vec3, Simulator,
+    BruteForce, ContactEvent, ContactKind, FlightPlan, Quat, Response, Shape, Simulator, Vec3,
     WorldKind,
 };
 use kinetic_flight::{ConvexShape, Sweep};

@@ -10,8 +10,16 @@ use rand_chacha::ChaCha8Rng;
 
 fn random_ball(rng: &mut ChaCha8Rng, now: f64) -> (f64, FlightPlan) {
     let r = 0.05 * 20f64.powf(rng.random_range(0.0..1.0));
-    let p = Vec3::new(rng.random_range(-8.0..8.0), rng.random_range(-8.0..8.0), 0.0);
-    let v = Vec3::new(rng.random_range(-1.5..1.5), rng.random_range(-1.5..1.5), 0.0);
+    let p = Vec3::new(
+        rng.random_range(-8.0..8.0),
+        rng.random_range(-8.0..8.0),
+        0.0,
+    );
+    let v = Vec3::new(
+        rng.random_range(-1.5..1.5),
+        rng.random_range(-1.5..1.5),
+        0.0,
+    );
     (r, FlightPlan::linear(p, v).starting_at(now))
 }
 
@@ -56,14 +64,18 @@ fn scenario(seed: u64, layout: ListLayout, response: Response) {
             // A new plan for one ball, and one leaves.
             let id = ids[rng.random_range(0..ids.len())];
             let (_, plan) = random_ball(&mut rng, t);
-            let plan = FlightPlan::linear(tree.body(id).unwrap().plan.position_at(t), plan.velocity_at(t))
-                .starting_at(t);
+            let plan = FlightPlan::linear(
+                tree.body(id).unwrap().plan.position_at(t),
+                plan.velocity_at(t),
+            )
+            .starting_at(t);
             tree.set_plan(id, plan).expect("replan");
             brute.set_plan(id, plan).expect("replan");
             let gone = ids.swap_remove(rng.random_range(0..ids.len()));
             tree.remove(gone).expect("remove");
             brute.remove(gone).expect("remove");
-            tree.validate().expect("valid after a new plan and a removal");
+            tree.validate()
+                .expect("valid after a new plan and a removal");
         }
     }
     let (a, b) = (tree.drain_events(), brute.drain_events());

@@ -1,7 +1,7 @@
 //! Helpers the tests share: runs audited after every event, and contact comparisons.
 
-use kinetic_collide::run::build_world;
 use kinetic_collide::Structure;
+use kinetic_collide::run::build_world;
 use kinetic_collide::scene::Scene;
 use kinetic_collide::{ContactEvent, ContactKind};
 use std::collections::BTreeMap;

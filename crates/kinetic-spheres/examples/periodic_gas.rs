@@ -21,7 +21,12 @@ fn lattice(n: usize, packing: f64, seed: u64) -> (PeriodicBox, Vec<(f64, FlightP
     let side = (n as f64 * PI / 6.0 / packing).cbrt();
     let cells = ((n as f64 / 4.0).cbrt().ceil() as usize).max(1);
     let a = side / cells as f64;
-    let basis = [[0.0, 0.0, 0.0], [0.5, 0.5, 0.0], [0.5, 0.0, 0.5], [0.0, 0.5, 0.5]];
+    let basis = [
+        [0.0, 0.0, 0.0],
+        [0.5, 0.5, 0.0],
+        [0.5, 0.0, 0.5],
+        [0.0, 0.5, 0.5],
+    ];
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut normal = || -> f64 { StandardNormal.sample(&mut rng) };
     let mut spheres = Vec::with_capacity(n);
@@ -33,13 +38,20 @@ fn lattice(n: usize, packing: f64, seed: u64) -> (PeriodicBox, Vec<(f64, FlightP
                         break 'fill;
                     }
                     let p = Vec3::new(i as f64 + b[0], j as f64 + b[1], k as f64 + b[2]) * a;
-                    spheres.push((p + Vec3::splat(0.25 * a), Vec3::new(normal(), normal(), normal())));
+                    spheres.push((
+                        p + Vec3::splat(0.25 * a),
+                        Vec3::new(normal(), normal(), normal()),
+                    ));
                 }
             }
         }
     }
     let mean = spheres.iter().map(|s| s.1).sum::<Vec3>() / n as f64;
-    let kt = spheres.iter().map(|s| (s.1 - mean).length_squared()).sum::<f64>() / (3 * n) as f64;
+    let kt = spheres
+        .iter()
+        .map(|s| (s.1 - mean).length_squared())
+        .sum::<f64>()
+        / (3 * n) as f64;
     let scale = 1.0 / kt.sqrt();
     let cell = PeriodicBox {
         min: Vec3::ZERO,

@@ -39,7 +39,12 @@ fn system(seed: u64, n: usize, radii: (f64, f64), side: f64) -> (Walls, Vec<(f64
 
 #[test]
 fn the_cell_grid_gives_the_worlds_log_bit_for_bit() {
-    for (seed, radii) in [(1, (0.5, 0.5)), (2, (0.5, 0.5)), (3, (0.1, 1.2)), (4, (0.05, 1.0))] {
+    for (seed, radii) in [
+        (1, (0.5, 0.5)),
+        (2, (0.5, 0.5)),
+        (3, (0.1, 1.2)),
+        (4, (0.05, 1.0)),
+    ] {
         let (walls, balls) = system(seed, 50, radii, 9.0);
         let mut cells = ElasticCells::new(walls, &balls).expect("a valid system");
         let mut world = Simulator::with_structure(
@@ -57,7 +62,11 @@ fn the_cell_grid_gives_the_worlds_log_bit_for_bit() {
         cells.advance_to(4.0).expect("advance");
         world.advance_to(4.0).expect("advance");
         let (got, want) = (cells.drain_events(), world.drain_events());
-        assert!(want.len() > 50, "seed {seed}: a run with collisions ({})", want.len());
+        assert!(
+            want.len() > 50,
+            "seed {seed}: a run with collisions ({})",
+            want.len()
+        );
         assert_eq!(got.len(), want.len(), "seed {seed}");
         for (x, y) in got.iter().zip(&want) {
             assert_eq!(

@@ -13,7 +13,7 @@
 
 use super::{BroadPhaseCore, Motion};
 use crate::aabb::Aabb;
-use crate::{Engine, Bound, Key};
+use crate::{Bound, Engine, Key};
 use kinetic_core::{Real, Vec3};
 
 /// A fat box is grown by this share of its collider's box half-width on every side.

@@ -32,9 +32,9 @@
 //! and deletes the others.
 
 use super::{BroadPhaseCore, REGION_MARGIN, REGION_STEPS};
-use crate::fat_pairs::FatPairs;
 use crate::aabb::Aabb;
-use crate::{Engine, Bound, Key, PairEvent};
+use crate::fat_pairs::FatPairs;
+use crate::{Bound, Engine, Key, PairEvent};
 use kinetic_core::{Real, Vec3};
 use kinetic_flight::LOOSE_TRAVEL;
 

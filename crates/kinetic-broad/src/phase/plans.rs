@@ -105,7 +105,13 @@ impl BroadPhaseCore {
     }
 
     /// [`BroadPhaseCore::refit`] for body `h` in state `rb`, as the engine gives it now.
-    pub(super) fn refit_to(&mut self, h: Key, rb: &BodyState, step: EngineStep, first: bool) -> bool {
+    pub(super) fn refit_to(
+        &mut self,
+        h: Key,
+        rb: &BodyState,
+        step: EngineStep,
+        first: bool,
+    ) -> bool {
         let t = self.clock.pos;
         let dt = self.clock.dt.max(step.dt);
         let m = self.motions.get_mut(h).expect("a motion");

@@ -3,7 +3,7 @@
 
 use super::{BroadPhaseCore, Proxy, Structure};
 use super::{REGION_MARGIN, REGION_STEPS};
-use crate::{BodyState, Engine, Bound, Key, EngineStep};
+use crate::{BodyState, Bound, Engine, EngineStep, Key};
 use kinetic_core::{Body, FlightPlan, Real, Shape, Vec3};
 use kinetic_flight::{ConvexShape, Grid, LooseGrid};
 

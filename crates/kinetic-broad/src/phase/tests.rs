@@ -2,7 +2,7 @@
 //! under a semi-implicit Euler integrator, coming to rest on it.
 
 use super::*;
-use crate::{BodyState, Engine, PairEvent, ColliderStatus, EngineStep};
+use crate::{BodyState, ColliderStatus, Engine, EngineStep, PairEvent};
 
 /// A collider of the toy engine: a ball on a body, or a fixed box.
 #[derive(Clone, Copy)]
@@ -37,7 +37,9 @@ impl Engine for Toy {
             Some((_, Part::Ball { body, radius }, true)) => {
                 ColliderStatus::Held(Bound::moving(*body, *radius, 0.01, slack))
             }
-            Some((_, Part::Box { min, max }, true)) => ColliderStatus::Held(Bound::fixed(*min, *max, 0.01)),
+            Some((_, Part::Box { min, max }, true)) => {
+                ColliderStatus::Held(Bound::fixed(*min, *max, 0.01))
+            }
         }
     }
 
@@ -219,9 +221,7 @@ fn bodies_at_rest_are_held_by_fat_boxes_until_they_move() {
     let mut toy = Toy::new(&[0.0, 3.0]);
     toy.boxes = true;
     // Kinetic throughout: the structure is the caller's.
-    let mut core = BroadPhaseCore::new()
-        .with_loose_grid(true)
-        .with_audit();
+    let mut core = BroadPhaseCore::new().with_loose_grid(true).with_audit();
     for _ in 0..120 {
         toy.step(&mut core);
     }

@@ -3,7 +3,7 @@
 
 use super::{BroadPhaseCore, StepStats};
 use crate::pairs::{Gate, PairOut, proxies_gate};
-use crate::{Engine, Bound, Key, PairEvent, ColliderStatus, EngineStep};
+use crate::{Bound, ColliderStatus, Engine, EngineStep, Key, PairEvent};
 use kinetic_core::{FlightPlan, Real, Vec3};
 
 impl BroadPhaseCore {

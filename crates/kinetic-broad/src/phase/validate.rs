@@ -2,7 +2,7 @@
 
 use super::{BroadPhaseCore, Clock, Proxy};
 use crate::pairs::proxies_meet;
-use crate::{Engine, Bound, Key, ColliderStatus};
+use crate::{Bound, ColliderStatus, Engine, Key};
 use kinetic_core::{Body, Vec3};
 
 impl BroadPhaseCore {

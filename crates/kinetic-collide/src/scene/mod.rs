@@ -136,7 +136,9 @@ impl Scene {
             .iter()
             .map(|o| outer_radius(&o.shape))
             .filter(|&r| r > 0.0)
-            .fold((f64::INFINITY, 0.0_f64), |(lo, hi), r| (lo.min(r), hi.max(r)));
+            .fold((f64::INFINITY, 0.0_f64), |(lo, hi), r| {
+                (lo.min(r), hi.max(r))
+            });
         if hi > 0.0 { hi / lo } else { 1.0 }
     }
 }

@@ -155,7 +155,10 @@ mod tests {
     fn flights_by_spread() {
         let many = 100_000;
         assert_eq!(for_flights(1.0, many, false, false), Structure::LooseGrid);
-        assert_eq!(for_flights(LOOSE_SPREAD, many, false, false), Structure::LooseGrid);
+        assert_eq!(
+            for_flights(LOOSE_SPREAD, many, false, false),
+            Structure::LooseGrid
+        );
         assert_eq!(
             for_flights(LOOSE_SPREAD * 1.01, many, false, false),
             Structure::Grid

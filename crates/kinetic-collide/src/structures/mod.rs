@@ -11,6 +11,6 @@ mod scene_measures;
 mod scene_world;
 
 pub(crate) use auto::Auto;
-pub use registry::Structure;
 pub(crate) use registry::FLIGHT_PARTS;
+pub use registry::Structure;
 pub(crate) use scene_world::{cell_balls, periodic_balls};

@@ -121,9 +121,7 @@ impl Structure {
         let plane = scene.world == WorldKind::Plane;
         let boxes = cost::for_flights(scene.size_ratio(), n, resting, plane);
         let cells = match boxes {
-            Structure::Grid => {
-                crossings * cost::grid_crossing_share(scene_measures::radii(scene))
-            }
+            Structure::Grid => crossings * cost::grid_crossing_share(scene_measures::radii(scene)),
             Structure::Sweep => cost::sweep_crossings(scene_measures::passes(scene)),
             _ => crossings,
         };

@@ -40,13 +40,7 @@ impl Default for ZenoGuard {
 
 impl ZenoGuard {
     /// One more event at `now` among `objects` objects, the last between `a` and `b`.
-    pub fn count(
-        &mut self,
-        now: Real,
-        objects: usize,
-        a: u32,
-        b: u32,
-    ) -> Result<(), WorldError> {
+    pub fn count(&mut self, now: Real, objects: usize, a: u32, b: u32) -> Result<(), WorldError> {
         if self.at == now {
             self.count += 1;
         } else {

@@ -61,8 +61,8 @@ pub use guard_grid::GuardGrid;
 use crate::axes::AxisLists;
 use crate::cones::ConeSet;
 use crate::shape::fatness;
-use kinetic_core::{Real, Shape};
 use kinetic_core::kds::{EventQueue, OrderCertificate};
+use kinetic_core::{Real, Shape};
 use rustc_hash::{FxHashMap, FxHashSet};
 
 /// Relative inflation of the boxes.

@@ -2,11 +2,11 @@
 
 use super::{BLOCK_CELLS_PER_BALL, CELLS_MIN, CELLS_PER_BALL, LEVEL_FACTOR};
 use super::{ElasticCells, Layout, Level, NIL, Next, WIDEN};
-use kinetic_core::{Real, Vec3};
 use kinetic_core::FlightPlan;
-use kinetic_core::kds::EventQueue;
 use kinetic_core::elastic::Motion;
 use kinetic_core::elastic::ZenoGuard;
+use kinetic_core::kds::EventQueue;
+use kinetic_core::{Real, Vec3};
 use kinetic_core::{Stats, Walls, WorldError};
 use rustc_hash::FxHashMap;
 

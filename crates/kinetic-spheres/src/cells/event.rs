@@ -1,11 +1,11 @@
 //! The event loop: each ball's scheduled event in time order, and the responses.
 
 use super::{ElasticCells, Event, Next};
-use kinetic_core::Real;
 use kinetic_core::FlightPlan;
+use kinetic_core::Real;
 use kinetic_core::elastic::Motion;
-use kinetic_core::elastic::elastic_exchange;
 use kinetic_core::elastic::bounced;
+use kinetic_core::elastic::elastic_exchange;
 use kinetic_core::{ContactEvent, ContactKind, ObjectId, WorldError};
 
 impl ElasticCells {

@@ -37,13 +37,13 @@ mod predict;
 mod query;
 mod validate;
 
+use kinetic_core::FlightPlan;
 use kinetic_core::elastic::Motion;
-use kinetic_core::elastic::ZenoGuard;
 use kinetic_core::elastic::WallHit;
+use kinetic_core::elastic::ZenoGuard;
+use kinetic_core::kds::EventQueue;
 use kinetic_core::{ContactEvent, Stats, Walls};
 use kinetic_core::{Real, Vec3};
-use kinetic_core::FlightPlan;
-use kinetic_core::kds::EventQueue;
 use rustc_hash::FxHashMap;
 
 /// Cells and blocks are this much (relative) wider than they must be.

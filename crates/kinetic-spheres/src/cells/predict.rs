@@ -3,10 +3,10 @@
 
 use super::{ElasticCells, Event, Next, TIE_WALL};
 use kinetic_core::Real;
-use kinetic_core::kds::pair_key;
-use kinetic_core::kds::roots::quadratic_roots;
 use kinetic_core::elastic::{Due, Walk, ball_gap, canonical_base};
 use kinetic_core::elastic::{WallHit, wall_hit};
+use kinetic_core::kds::pair_key;
+use kinetic_core::kds::roots::quadratic_roots;
 use kinetic_core::{Response, WorldKind};
 
 /// Keeps the two earliest of `top` and `event` in `top`, in order (an event already first is

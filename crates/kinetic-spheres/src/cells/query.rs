@@ -1,8 +1,8 @@
 //! What the grid tells about itself: the clock, the balls, the statistics and figures.
 
 use super::ElasticCells;
-use kinetic_core::Real;
 use kinetic_core::FlightPlan;
+use kinetic_core::Real;
 use kinetic_core::{ContactEvent, Stats};
 
 impl ElasticCells {

@@ -6,11 +6,11 @@ use super::grid::CentreGrid;
 use super::lists::Lists;
 use super::runners::SavedRunners;
 use super::{ListCentre, NEIGHBOURS, Period, PeriodicBox, PeriodicSpheres, SHELL, SLACK};
-use kinetic_core::{Real, Vec3};
 use kinetic_core::FlightPlan;
 use kinetic_core::elastic::Motion;
 use kinetic_core::elastic::ZenoGuard;
 use kinetic_core::{MAX_MAGNITUDE, Stats, WorldError};
+use kinetic_core::{Real, Vec3};
 use rustc_hash::FxHashMap;
 
 /// Interleaves the low 21 bits of three cell coordinates (a Z-curve key).

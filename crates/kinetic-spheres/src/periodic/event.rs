@@ -2,10 +2,10 @@
 //! events, shell crossings.
 
 use super::{Kind, Motion, Period, PeriodicSpheres, Scheduled};
-use kinetic_core::{Real, Vec3};
-use kinetic_core::prefetch;
 use kinetic_core::elastic::Exchange;
+use kinetic_core::prefetch;
 use kinetic_core::{ContactEvent, ContactKind, ObjectId, WorldError};
+use kinetic_core::{Real, Vec3};
 
 /// Event kinds by index in `event_counts`, as the statistics name them.
 pub(super) const EVENT_NAMES: [&str; 4] = ["collision", "stale", "shell", "graze"];

@@ -4,9 +4,9 @@
 //! AVX lanes, each lane with the scalar pass's operations in order; elsewhere one at a time.
 
 use super::{Motion, PeriodicSpheres};
-use kinetic_core::{Real, Vec3};
 #[cfg(target_arch = "x86_64")]
 use kinetic_core::prefetch;
+use kinetic_core::{Real, Vec3};
 
 impl PeriodicSpheres {
     /// The first pass over a batch of `m`'s neighbours, one pair at a time: writes to `out`
@@ -369,8 +369,8 @@ pub(super) struct Kept {
 #[cfg(all(test, target_arch = "x86_64"))]
 mod tests {
     use super::*;
-    use kinetic_core::FlightPlan;
     use crate::periodic::PeriodicBox;
+    use kinetic_core::FlightPlan;
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 

@@ -7,8 +7,8 @@
 //! centres go to its spill, which ordinary fluids rarely use.
 
 use kinetic_core::elastic::round_near;
-use kinetic_core::{Real, Vec3};
 use kinetic_core::prefetch;
+use kinetic_core::{Real, Vec3};
 use rustc_hash::FxHashMap;
 
 /// Places in a block.

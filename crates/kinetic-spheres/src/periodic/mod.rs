@@ -30,19 +30,19 @@
 mod build;
 mod calendar;
 mod event;
+mod first_pass;
 mod grid;
 mod lists;
 mod predict;
-mod first_pass;
 mod runners;
 mod validate;
 
+use calendar::Calendar;
 use kinetic_core::elastic::Motion;
+use kinetic_core::elastic::ROUNDING;
 use kinetic_core::elastic::ZenoGuard;
 use kinetic_core::{ContactEvent, Stats};
-use kinetic_core::elastic::ROUNDING;
 use kinetic_core::{Real, Vec3};
-use calendar::Calendar;
 use rustc_hash::FxHashMap;
 
 /// A sphere lists the spheres within a shell factor times the sum of radii: about this many

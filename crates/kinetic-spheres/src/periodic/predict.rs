@@ -4,12 +4,12 @@
 use super::first_pass::{BATCH, Kept};
 use super::runners::Runners;
 use super::{Kind, Motion, Next, PeriodicSpheres, TIE_SHELL};
-use kinetic_core::kds::certificates::ball_ball_gap;
-use kinetic_core::{Real, Vec3};
-use kinetic_core::kds::pair_key;
-use kinetic_core::kds::roots::quadratic_roots;
 use kinetic_core::Response;
 use kinetic_core::elastic::{Due, Walk};
+use kinetic_core::kds::certificates::ball_ball_gap;
+use kinetic_core::kds::pair_key;
+use kinetic_core::kds::roots::quadratic_roots;
+use kinetic_core::{Real, Vec3};
 
 /// The next failure of the disjointness certificate of spheres `a` and `b` met through the
 /// image `shift` (`(x_a - x_b) - shift`), after `now`: its time, and whether it is a graze.
