@@ -146,7 +146,8 @@ struct Block {
 /// hard-sphere system, with the world's events and statistics.
 ///
 /// ```
-/// # use kinetic_core::{ElasticCells, FlightPlan, Vec3, Walls, ContactKind};
+/// # use kinetic_core::{FlightPlan, Vec3, Walls};
+/// # use kinetic_spheres::ElasticCells;
 /// let walls = Walls { min: Vec3::ZERO, max: Vec3::splat(10.0) };
 /// let balls = [
 ///     (0.5, FlightPlan::linear(Vec3::new(2.0, 5.0, 5.0), Vec3::new(1.0, 0.0, 0.0))),

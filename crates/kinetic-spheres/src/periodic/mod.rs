@@ -184,7 +184,8 @@ fn round(v: Vec3) -> Vec3 {
 /// the world's events and statistics.
 ///
 /// ```
-/// # use kinetic_core::{PeriodicBox, PeriodicSpheres, FlightPlan, Vec3};
+/// # use kinetic_core::{FlightPlan, Vec3};
+/// # use kinetic_spheres::{PeriodicBox, PeriodicSpheres};
 /// let cell = PeriodicBox { min: Vec3::ZERO, max: Vec3::splat(10.0) };
 /// let spheres = [
 ///     (0.5, FlightPlan::linear(Vec3::new(1.0, 5.0, 5.0), Vec3::new(-1.0, 0.0, 0.0))),
