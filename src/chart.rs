@@ -4,6 +4,7 @@
 use crate::compare::Row;
 use kinetic_render::Frame;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use plotters::style::{FontStyle, register_font};
 use std::path::Path;
 
@@ -168,27 +169,38 @@ fn legend(strip: &Area, rows: &[&Row]) -> Result<(), String> {
         } else {
             r.method.to_string()
         };
-        let width = 7 * name.len() as i32;
-        strip
-            .draw(&Text::new(
-                name,
-                (x + 9, 13),
-                ("sans-serif", 13).into_font().color(&c),
-            ))
+        let font = ("sans-serif", 13).into_font().color(&c);
+        let (width, _) = strip
+            .estimate_text_size(&name, &font)
             .map_err(|e| e.to_string())?;
-        x += width + 30;
+        strip
+            .draw(&Text::new(name, (x + 9, 13), font))
+            .map_err(|e| e.to_string())?;
+        x += width as i32 + 30;
     }
     Ok(())
 }
 
 /// Pixel rectangles of the labels placed so far in a panel, to keep new ones off them.
-#[derive(Default)]
-struct Placed(Vec<(i32, i32, i32, i32)>);
+struct Placed {
+    /// The plotting area's size in pixels: a label stays inside it.
+    size: (i32, i32),
+    labels: Vec<(i32, i32, i32, i32)>,
+}
 
 impl Placed {
-    /// Where a label `width` x `height` pixels goes beside the point at pixel `p`: the first
-    /// of right, left, above and below that meets no label already placed and no point
-    /// (each point is a 12-pixel box); `None` when all four do, and the label is left out.
+    fn new(size: (u32, u32)) -> Self {
+        Self {
+            size: (size.0 as i32, size.1 as i32),
+            labels: Vec::new(),
+        }
+    }
+
+    /// Where the top-left corner of a label `width` x `height` pixels goes beside the point
+    /// at pixel `p`: the first spot, nearest first (right, left, above, below, then the
+    /// diagonals, then twice as far), that stays inside the plot and meets no label already
+    /// placed and no point (each point is a 12-pixel box); `None` when every spot does, and
+    /// the label is left out.
     fn place(
         &mut self,
         p: (i32, i32),
@@ -196,24 +208,35 @@ impl Placed {
         height: i32,
         points: &[(i32, i32)],
     ) -> Option<(i32, i32)> {
-        let tries = [
-            (p.0 + 8, p.1 - height / 2),
-            (p.0 - 8 - width, p.1 - height / 2),
-            (p.0 - width / 2, p.1 - 8 - height),
-            (p.0 - width / 2, p.1 + 8),
-        ];
         let meets = |a: (i32, i32, i32, i32), b: (i32, i32, i32, i32)| {
             a.0 < b.2 && b.0 < a.2 && a.1 < b.3 && b.1 < a.3
         };
-        for (x, y) in tries {
-            let rect = (x, y, x + width, y + height);
-            let clear = self.0.iter().all(|&r| !meets(r, rect))
-                && points
-                    .iter()
-                    .all(|&(px, py)| !meets((px - 6, py - 6, px + 6, py + 6), rect));
-            if clear {
-                self.0.push(rect);
-                return Some((x, y));
+        for gap in [8, 16] {
+            let (right, left) = (p.0 + gap, p.0 - gap - width);
+            let (above, below) = (p.1 - gap - height, p.1 + gap);
+            let (middle_x, middle_y) = (p.0 - width / 2, p.1 - height / 2);
+            let tries = [
+                (right, middle_y),
+                (left, middle_y),
+                (middle_x, above),
+                (middle_x, below),
+                (right, above),
+                (right, below),
+                (left, above),
+                (left, below),
+            ];
+            for (x, y) in tries {
+                let rect = (x, y, x + width, y + height);
+                let inside = x >= 0 && y >= 0 && rect.2 <= self.size.0 && rect.3 <= self.size.1;
+                let clear = inside
+                    && self.labels.iter().all(|&r| !meets(r, rect))
+                    && points
+                        .iter()
+                        .all(|&(px, py)| !meets((px - 6, py - 6, px + 6, py + 6), rect));
+                if clear {
+                    self.labels.push(rect);
+                    return Some((x, y));
+                }
             }
         }
         None
@@ -289,7 +312,7 @@ fn panel(
             let points: Vec<(i32, i32)> = shown.iter().map(|(_, p)| *p).collect();
             let root = chart.plotting_area().strip_coord_spec();
             let (dx, dy) = root.get_base_pixel();
-            let mut placed = Placed::default();
+            let mut placed = Placed::new(root.dim_in_pixel());
             for &(r, (px, py)) in &shown {
                 let (c, m) = style(r.method);
                 let at = (px - dx, py - dy);
@@ -301,11 +324,14 @@ fn panel(
                 // the legend.
                 if r.step != "exact" {
                     let label = r.step.clone();
-                    let width = 7 * label.len() as i32;
+                    let font = ("sans-serif", 12)
+                        .into_font()
+                        .color(&c)
+                        .pos(Pos::new(HPos::Left, VPos::Top));
+                    let (width, height) = root.estimate_text_size(&label, &font)?;
                     let local: Vec<(i32, i32)> =
                         points.iter().map(|&(x, y)| (x - dx, y - dy)).collect();
-                    if let Some(spot) = placed.place(at, width, 12, &local) {
-                        let font = ("sans-serif", 12).into_font().color(&c);
+                    if let Some(spot) = placed.place(at, width as i32, height as i32, &local) {
                         root.draw(&Text::new(label, spot, font))?;
                     }
                 }

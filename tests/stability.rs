@@ -13,7 +13,12 @@ use kinetic_scenes::families::{Case, Family};
 
 use kinetic_scenes::audit::{assert_same_contacts, run_audited as audited};
 
-const FREE: [Structure; 3] = [Structure::Sweep, Structure::Guards, Structure::Grid];
+const FREE: [Structure; 4] = [
+    Structure::Sweep,
+    Structure::Guards,
+    Structure::Grid,
+    Structure::LooseGrid,
+];
 
 /// Every structure gives the brute force's contacts (per pair the same kinds in the same
 /// order, times within the scene format's 1e-7 * max(1, |t|)); returns the brute force's log.
