@@ -21,6 +21,7 @@
 //! holds our figures only.
 
 use kinetic_collide::Structure;
+use kinetic_collide::run::push_event_line;
 use kinetic_collide::scene::outer_radius;
 use kinetic_collide::spheres::ElasticCells;
 use kinetic_collide::{ContactKind, Walls};
@@ -114,13 +115,7 @@ fn child(system: System, collisions: f64) -> Result<(), String> {
         log.clear();
         for e in cells.drain_events() {
             begun += u64::from(e.kind == ContactKind::Begin);
-            let _ = writeln!(
-                log,
-                "{{\"t\": {:.10}, \"a\": {}, \"b\": {}, \"kind\": \"begin\"}}",
-                e.time + 0.0,
-                e.a.0,
-                e.b.0
-            );
+            push_event_line(&mut log, &e);
         }
         let _ = sink.write_all(log.as_bytes());
     }

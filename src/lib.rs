@@ -9,7 +9,9 @@
 pub mod chart;
 pub mod compare;
 pub mod frames;
+pub mod input;
 pub mod output;
 pub mod process;
+pub mod progress;
 pub mod rapier_run;
 pub mod time_stepped;

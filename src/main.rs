@@ -4,16 +4,17 @@ use clap::builder::PossibleValuesParser;
 use clap::{Parser, Subcommand};
 use kinetic_collide::ContactEvent;
 use kinetic_collide::Structure;
-use kinetic_collide::run::{RunError, Stream, push_event_line};
+use kinetic_collide::run::{RunError, Stream, push_event_line, run_periodic_streamed};
 use kinetic_collide::scene::Scene;
 use kinetic_collide_cli::frames::{
     FrameSpec, Overlay, render_series, run_with_snapshots, run_with_snapshots_streamed, write_run,
 };
+use kinetic_collide_cli::input::{InputError, read_scene_text};
 use kinetic_collide_cli::output::{self, Output, Target, write_whole};
+use kinetic_collide_cli::progress::Progress;
 use kinetic_render::Snapshot;
 use kinetic_scenes::BallScene;
 use kinetic_scenes::hard_spheres::HardSpheres;
-use std::io::Read as _;
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -36,7 +37,9 @@ enum Command {
     Run {
         /// The scene file (JSON, see the scene format).
         scene: PathBuf,
-        /// Where to write the event log (default: standard output).
+        /// Where to write the event log (default: standard output); `none` writes no log
+        /// (the statistics still), so a long run costs only its simulation (a file of that
+        /// name is `./none`).
         #[arg(long)]
         events: Option<PathBuf>,
         /// Where to write the statistics (JSON).
@@ -45,6 +48,11 @@ enum Command {
         /// The kinetic structure (default: the fastest for the scene, chosen from it).
         #[arg(long, value_name = "NAME", value_parser = PossibleValuesParser::new(Structure::ALL.map(Structure::name)))]
         structure: Option<String>,
+        /// In a periodic box, measure the bulk figures (collision rate, pressure) from this
+        /// simulated time to the horizon, leaving out the start (melting from a lattice, say);
+        /// default 0, the whole run.
+        #[arg(long, value_name = "TIME")]
+        measure_from: Option<f64>,
         /// Also render N frames at even times over the horizon, as PNG.
         #[arg(long, value_name = "N", default_value_t = 0)]
         frames: usize,
@@ -77,7 +85,7 @@ enum Command {
     /// box, elastic, Maxwell-Boltzmann velocities at kT = 1, large spheres of diameter and
     /// mass 1.
     Generate {
-        /// Number of spheres.
+        /// Number of spheres (at most 100,000,000).
         #[arg(long, default_value_t = 4000)]
         n: usize,
         /// Small over large diameter, in (0, 1]; 1 gives the monodisperse gas.
@@ -137,6 +145,7 @@ fn main() -> ExitCode {
             events,
             stats,
             structure,
+            measure_from,
             frames,
             out,
             size,
@@ -144,10 +153,13 @@ fn main() -> ExitCode {
         }) => frame_request(&scene, frames, out, &size, &overlay).and_then(|frames| {
             run_file(
                 &scene,
-                events.as_deref(),
-                stats.as_deref(),
+                Outputs {
+                    events: events.as_deref(),
+                    stats: stats.as_deref(),
+                    frames,
+                },
                 structure.as_deref(),
-                frames,
+                measure_from,
             )
         }),
     };
@@ -204,13 +216,24 @@ fn frame_request(
 /// Set by SIGINT and SIGTERM: the run stops at the next instant and writes what it has.
 static STOP: AtomicBool = AtomicBool::new(false);
 
+/// What a run writes: the log, the statistics and the frames.
+struct Outputs<'a> {
+    events: Option<&'a Path>,
+    stats: Option<&'a Path>,
+    frames: Frames,
+}
+
 fn run_file(
     path: &Path,
-    events: Option<&Path>,
-    stats: Option<&Path>,
+    outputs: Outputs<'_>,
     structure: Option<&str>,
-    frames: Frames,
+    measure_from: Option<f64>,
 ) -> Result<(), Failure> {
+    let Outputs {
+        events,
+        stats,
+        frames,
+    } = outputs;
     let structure = structure
         .map(|name| {
             Structure::from_name(name).ok_or_else(|| {
@@ -232,21 +255,29 @@ fn run_file(
         path.display().to_string()
     };
     let dash = Path::new("-");
-    let mut named = vec![("--events", events.unwrap_or(dash))];
+    let no_log = events.is_some_and(|p| p.as_os_str() == "none");
+    let mut named = Vec::new();
+    if !no_log {
+        named.push(("--events", events.unwrap_or(dash)));
+    }
     if let Some(p) = stats {
         named.push(("--stats", p));
     }
     let input = (!from_stdin).then_some(path);
     let targets = output::plan_outputs(input, &named).map_err(|e| (2, e))?;
-    let text = if from_stdin {
-        let mut text = String::new();
-        std::io::stdin()
-            .read_to_string(&mut text)
-            .map_err(|e| (2, format!("{shown}: cannot read: {e}")))?;
-        text
+    let (log_target, stats_target) = if no_log {
+        (None, targets.first())
     } else {
-        std::fs::read_to_string(path).map_err(|e| (2, format!("{shown}: cannot read: {e}")))?
+        (targets.first(), targets.get(1))
     };
+    let read = if from_stdin {
+        read_scene_text(std::io::stdin().lock())
+    } else {
+        std::fs::File::open(path)
+            .map_err(InputError::Read)
+            .and_then(read_scene_text)
+    };
+    let text = read.map_err(|e| (2, format!("{shown}: {e}")))?;
     let scene = Scene::from_json(&text).map_err(|e| (2, format!("{shown}: {e}")))?;
     drop(text);
     let spec = frames
@@ -259,7 +290,10 @@ fn run_file(
         };
         (1, format!("{name}: cannot write: {e}"))
     };
-    let mut log = Output::open(&targets[0]).map_err(|e| cannot_write(&targets[0], e))?;
+    let mut log = match log_target {
+        Some(target) => Some(Output::open(target).map_err(|e| cannot_write(target, e))?),
+        None => None,
+    };
     // The first signal stops the run at the next instant; a second (say, during a long build
     // that has no instants yet) exits at once, leaving no partial file.
     let _ = ctrlc::set_handler(|| {
@@ -268,9 +302,16 @@ fn run_file(
             std::process::exit(130);
         }
     });
+    let mut progress = Progress::new(scene.horizon);
     let mut write_error: Option<std::io::Error> = None;
     let mut line = String::with_capacity(1 << 16);
     let mut sink = |batch: &[ContactEvent]| {
+        if let Some(last) = batch.last() {
+            progress.reached(last.time, batch.len());
+        }
+        let Some(log) = log.as_mut() else {
+            return ControlFlow::Continue(());
+        };
         line.clear();
         for e in batch {
             push_event_line(&mut line, e);
@@ -288,7 +329,16 @@ fn run_file(
         sink: &mut sink,
         stop: Some(&STOP),
     };
-    let result = run_with_snapshots_streamed(&scene, structure, &spec, &mut stream);
+    let result = match measure_from {
+        Some(from) if structure.is_none_or(|s| s == Structure::Periodic) && frames.is_none() => {
+            run_periodic_streamed(&scene, from, &mut stream).map(|out| (out, Vec::new()))
+        }
+        Some(_) => Err(RunError::Input(
+            "--measure-from: applies to the periodic structure, without frames".to_string(),
+        )),
+        None => run_with_snapshots_streamed(&scene, structure, &spec, &mut stream),
+    };
+    progress.finish();
     let (output, snapshots, stopped) = match result {
         Ok((out, snapshots)) => (out, snapshots, None),
         Err(RunError::Input(msg)) => return Err((2, format!("{shown}: {msg}"))),
@@ -302,26 +352,28 @@ fn run_file(
             Some(format!("run stopped at t = {time}: {source}")),
         ),
     };
-    let written = match write_error {
-        Some(e) => {
+    let written = match (write_error, log) {
+        (Some(e), log) => {
             drop(log);
             Err(e)
         }
-        None => log.commit(),
+        (None, Some(log)) => log.commit(),
+        (None, None) => Ok(()),
     };
     // The reader of the log went away: nothing is wrong, and nothing more is wanted of it.
     let broken_pipe = written
         .as_ref()
-        .is_err_and(|e| output::is_broken_pipe(e) && targets[0] == Target::Stdout);
+        .is_err_and(|e| output::is_broken_pipe(e) && log_target == Some(&Target::Stdout));
     if let Err(e) = written
         && !broken_pipe
     {
-        if let Some(target) = targets.get(1) {
+        if let Some(target) = stats_target {
             let _ = output::write_target(target, &output.stats_json());
         }
-        return Err(cannot_write(&targets[0], e));
+        let target = log_target.expect("only a log fails to be written");
+        return Err(cannot_write(target, e));
     }
-    if let Some(target) = targets.get(1) {
+    if let Some(target) = stats_target {
         output::write_target(target, &output.stats_json()).map_err(|e| cannot_write(target, e))?;
     }
     if broken_pipe {

@@ -36,8 +36,8 @@ const TWO_BALLS: &str = r#"{"world": "free", "horizon": 10, "objects": [
   {"shape": {"ball": {"radius": 0.5}}, "position": [0, 0, 0], "velocity": [1, 0, 0]},
   {"shape": {"ball": {"radius": 0.5}}, "position": [5, 0, 0]}]}"#;
 
-const TWO_BALLS_LOG: &str = "{\"t\": 4.0000000000, \"a\": 0, \"b\": 1, \"kind\": \"begin\"}\n\
-                             {\"t\": 6.0000000000, \"a\": 0, \"b\": 1, \"kind\": \"end\"}\n";
+const TWO_BALLS_LOG: &str = "{\"t\": 4.0, \"a\": 0, \"b\": 1, \"kind\": \"begin\"}\n\
+                             {\"t\": 6.0, \"a\": 0, \"b\": 1, \"kind\": \"end\"}\n";
 
 /// Writes a hard-sphere gas of `n` spheres running for about `collisions` collisions.
 fn gas(dir: &Path, n: usize, collisions: f64) -> PathBuf {
@@ -416,4 +416,91 @@ fn no_structure_does_work_for_empty_space() {
             "{structure}: {events} events for two balls apart"
         );
     }
+}
+
+#[test]
+fn endless_or_huge_inputs_are_refused_at_once() {
+    let dir = temp_dir("endless");
+    // A device that never ends: the first byte cannot begin a scene.
+    let (code, err) = run_status(&["run", "/dev/zero"], &dir);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("cannot begin a scene"), "{err}");
+    // The same on standard input.
+    let out = tool()
+        .args(["run", "-"])
+        .stdin(std::fs::File::open("/dev/zero").unwrap())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    // A trillion spheres: refused, naming the limit, nothing written.
+    let (code, err) = run_status(
+        &["generate", "--n", "1000000000000", "--out", "huge.json"],
+        &dir,
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("at most 100,000,000"), "{err}");
+    assert!(!dir.join("huge.json").exists());
+}
+
+#[test]
+fn events_none_writes_the_statistics_only() {
+    let dir = temp_dir("events-none");
+    std::fs::write(dir.join("two.json"), TWO_BALLS).unwrap();
+    let out = tool()
+        .args([
+            "run",
+            "two.json",
+            "--events",
+            "none",
+            "--stats",
+            "stats.json",
+        ])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(out.stdout.is_empty());
+    assert!(!dir.join("none").exists());
+    let stats: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("stats.json")).unwrap()).unwrap();
+    assert_eq!(stats["contacts"]["begin"], 1);
+    assert_eq!(stats["contacts"]["end"], 1);
+}
+
+#[test]
+fn times_keep_every_digit() {
+    let dir = temp_dir("digits");
+    // Contact 4.5e-11 after the start: ten fixed decimals would write 0.
+    let scene = r#"{"world": "free", "horizon": 1e-9, "objects": [
+      {"shape": {"ball": {"radius": 0.5}}, "position": [0, 0, 0], "velocity": [1, 0, 0]},
+      {"shape": {"ball": {"radius": 0.5}}, "position": [1.000000000045, 0, 0]}]}"#;
+    std::fs::write(dir.join("close.json"), scene).unwrap();
+    let out = tool()
+        .args(["run", "close.json"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let log = String::from_utf8(out.stdout).unwrap();
+    let line: serde_json::Value = serde_json::from_str(log.lines().next().unwrap()).unwrap();
+    let t = line["t"].as_f64().unwrap();
+    assert!((t - 4.5e-11).abs() < 1e-15, "{log}");
+    // Written so that it reads back as the same double: the shortest such decimal.
+    let written = log
+        .split("\"t\": ")
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .next()
+        .unwrap();
+    assert_eq!(written, format!("{t:?}"));
+    assert_eq!(written.parse::<f64>().unwrap(), t);
 }

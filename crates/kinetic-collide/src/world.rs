@@ -121,6 +121,32 @@ impl World {
         self.inner.step(until)
     }
 
+    /// Hands the world's objects to a fresh structure of kind `structure` at the current time
+    /// (its grids giving every region at least `least_flight` time units of flight), without
+    /// changing the log: every structure gives the same events. Fails, changing nothing, when
+    /// the structure does not run in this world.
+    pub fn switch_structure(
+        &mut self,
+        structure: Structure,
+        least_flight: Real,
+    ) -> Result<(), WorldError> {
+        // Only the guards size themselves by the shapes.
+        let shapes: Vec<Shape> = if structure == Structure::Guards {
+            let bodies = self.inner.bodies().iter().flatten();
+            bodies.map(|b| b.shape.clone()).collect()
+        } else {
+            Vec::new()
+        };
+        let next = structure
+            .build(self.inner.kind(), &shapes, least_flight)
+            .map_err(|why| WorldError::UnsupportedStructure {
+                structure: structure.name(),
+                why,
+            })?;
+        self.inner.replace_structure(next);
+        Ok(())
+    }
+
     /// Takes the contact events so far (see [`kinetic_core::Simulator::drain_events`]).
     pub fn drain_events(&mut self) -> Vec<ContactEvent> {
         self.inner.drain_events()

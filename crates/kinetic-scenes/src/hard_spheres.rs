@@ -52,6 +52,10 @@ pub struct HardSpheres {
     pub periodic: bool,
 }
 
+/// The most spheres a system may have: the scene's text takes about 150 bytes a sphere, so
+/// 15 GB here, and a run needs about as much again.
+pub const MAX_SPHERES: usize = 100_000_000;
+
 /// What is wrong with a hard-sphere request.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum HardSpheresError {
@@ -115,6 +119,13 @@ impl HardSpheres {
         let bad = |name, why, value| Err(HardSpheresError::Parameter { name, why, value });
         if self.n == 0 {
             return bad("n", "at least one sphere", 0.0);
+        }
+        if self.n > MAX_SPHERES {
+            return bad(
+                "n",
+                "at most 100,000,000 spheres (the scene's text would not fit in memory)",
+                self.n as f64,
+            );
         }
         if !(self.ratio > 0.0 && self.ratio <= 1.0) {
             return bad("ratio", "small over large diameter, in (0, 1]", self.ratio);

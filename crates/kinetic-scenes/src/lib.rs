@@ -3,7 +3,8 @@
 //! The scenes of kinetic-collide, defined once and shared by the tests, the benches, the
 //! examples and the command-line tool's `generate`: seeded random ball and flight scenes
 //! ([`BallScene`], [`FlightScene`], [`NestScene`]), hard-sphere systems ([`HardSpheres`]) and
-//! the comparison's scene families ([`families::Family`]). Every generator is deterministic in
+//! the comparison's scene families ([`families::Family`]) and the space of scenes the default
+//! structure is measured on ([`space::draw`]). Every generator is deterministic in
 //! its seed.
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
@@ -18,6 +19,7 @@ pub mod generators;
 pub mod hard_spheres;
 #[cfg(feature = "rapier")]
 pub mod rapier;
+pub mod space;
 
 pub use generators::{BallScene, FlightScene, NestScene, ShapeMix};
 pub use hard_spheres::{HardSpheres, HardSpheresError, Species};

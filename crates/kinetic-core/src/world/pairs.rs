@@ -17,7 +17,7 @@ use crate::math::Real;
 use crate::pair_key::pair_key;
 use crate::poly::Poly;
 use crate::roots::{Root, Roots, roots_after_zero};
-use crate::structure::PairChange;
+use crate::structure::{CandidateStructure, PairChange};
 use rustc_hash::FxHashMap;
 
 /// Where the next contact event of a polynomial gap comes from.
@@ -454,6 +454,42 @@ impl Simulator {
 
     pub(crate) fn plan_of(&self, id: u32) -> crate::FlightPlan {
         self.bodies[id as usize].as_ref().expect("live object").plan
+    }
+
+    /// Hands every object to `next`, a fresh, empty candidate structure, at the current time,
+    /// and returns the structure it replaces. The log does not change: each structure holds
+    /// every pair in contact, so a pair both hold keeps its certificate, a pair only `next`
+    /// needs gets one (computed from the same canonical gap as it would have had all along),
+    /// and a pair only the old structure held goes without an event.
+    pub fn replace_structure(
+        &mut self,
+        mut next: Box<dyn CandidateStructure>,
+    ) -> Box<dyn CandidateStructure> {
+        let ids: Vec<u32> = (0..self.bodies.len() as u32)
+            .filter(|&id| self.bodies[id as usize].is_some())
+            .collect();
+        let mut changes = std::mem::take(&mut self.changes);
+        next.insert_many(&ids, &self.bodies, self.now, &mut changes);
+        // The old structure's holds go all at once: every count starts again from the new
+        // structure's, and the pairs it does not hold are let go after its pairs are in.
+        let held: Vec<u32> = self.pairs.iter().map(|(slot, _)| slot).collect();
+        for &slot in &held {
+            self.pairs.get_mut(slot).refs = 0;
+        }
+        self.apply_changes(&mut changes);
+        self.changes = changes;
+        for slot in held {
+            let cert = self.pairs.get(slot);
+            if cert.refs == 0 {
+                // A structure holds every pair in contact; one it does not is ending now.
+                if cert.touching {
+                    let (a, b) = (cert.a, cert.b);
+                    self.log(a, b, ContactKind::End);
+                }
+                self.drop_pair(slot);
+            }
+        }
+        std::mem::replace(&mut self.structure, next)
     }
 
     pub(crate) fn apply_changes(&mut self, changes: &mut Vec<PairChange>) {

@@ -3,11 +3,16 @@
 //! the event log and statistics written exactly as the scene format says.
 
 use crate::scene::{Scene, ShapeSpec};
-use crate::structures::{FLIGHT_PARTS, cell_balls, periodic_balls};
+mod spheres;
+
+pub use crate::structures::Slice;
+use crate::structures::{FLIGHT_PARTS, Race};
 use crate::{Structure, World};
 use kinetic_core::{ContactEvent, ContactKind, Shape, Stats, WorldError};
 use kinetic_flight::ConvexShape;
-use kinetic_spheres::{Bulk, ElasticCells, PeriodicSpheres};
+use kinetic_spheres::{ElasticCells, PeriodicSpheres};
+pub use spheres::{BLOCKS, MeasuredBulk};
+use spheres::{run_cells, run_periodic};
 use std::cell::RefCell;
 use std::fmt::Write as _;
 use std::ops::ControlFlow;
@@ -54,8 +59,12 @@ impl From<kinetic_flight::ShapeError> for RunError {
 /// What a run produced.
 #[derive(Clone, Debug)]
 pub struct RunOutput {
-    /// The structure used.
+    /// The structure used (at the end of the run, when it measured the shortlist).
     pub structure: Structure,
+    /// A run without a named structure: which structure ran each slice of it and what each
+    /// slice cost, in order (the structures tried, their cost, and when the run switched).
+    /// Empty when the structure was named or the scene has one structure only.
+    pub race: Vec<Slice>,
     /// Number of objects.
     pub objects: usize,
     /// The horizon.
@@ -70,8 +79,8 @@ pub struct RunOutput {
     pub stats: Stats,
     /// The structure's own figures, by name.
     pub structure_stats: Vec<(&'static str, f64)>,
-    /// A periodic run's collision rate, temperature and pressure.
-    pub bulk: Option<Bulk>,
+    /// A periodic run's collision rate, temperature and pressure, with their uncertainty.
+    pub bulk: Option<MeasuredBulk>,
     /// Wall-clock seconds of the detection (excluding parsing and writing).
     pub wall_seconds: f64,
 }
@@ -210,63 +219,47 @@ fn drive(
     })
 }
 
-/// Runs a scene on the cell grid.
-fn run_cells(
-    scene: &Scene,
-    start: Instant,
+/// [`drive`] in the race's slices: each slice timed, and the world handed to the structure
+/// the race names after it.
+fn drive_racing(
+    world: &mut World,
+    until: f64,
+    race: &mut Race,
+    horizon: f64,
     stream: &mut Stream<'_>,
-) -> Result<RunOutput, RunError> {
-    let (walls, balls) = cell_balls(scene).ok_or_else(|| {
-        RunError::Input(
-            "--structure cells: applies to elastic balls moving linearly inside walls in a \
-             \"free\" world, with sizes the grid can hold"
-                .to_string(),
-        )
-    })?;
-    let mut cells =
-        ElasticCells::new(walls, &balls).map_err(|e| RunError::Input(format!("objects: {e}")))?;
-    let result = drive(&mut cells, scene.horizon, stream);
-    let output = RunOutput {
-        structure: Structure::Cells,
-        objects: scene.objects.len(),
-        horizon: scene.horizon,
-        events: Vec::new(),
-        interrupted: None,
-        stats: cells.stats().clone(),
-        structure_stats: cells.counters(),
-        bulk: None,
-        wall_seconds: start.elapsed().as_secs_f64(),
-    };
-    output.finish(result, cells.now())
+) -> Result<Reached, WorldError> {
+    loop {
+        let from = world.now();
+        let to = race.slice_end(from).min(until);
+        let start = Instant::now();
+        let reached = drive(world, to, stream)?;
+        let next = race.slice_done(from, to, start.elapsed().as_secs_f64());
+        if let Some(next) = next {
+            let build = Instant::now();
+            world.switch_structure(next, horizon / FLIGHT_PARTS)?;
+            race.switched(build.elapsed().as_secs_f64());
+        }
+        if !matches!(reached, Reached::Time) || to >= until {
+            return Ok(reached);
+        }
+    }
 }
 
-/// Runs a scene in a periodic box.
-fn run_periodic(
+/// Runs a periodic `scene` streamed as [`run_scene_streamed`] does, with its bulk figures
+/// measured from `measure_from` to the horizon (the start left out, so that they are the
+/// equilibrated fluid's), in [`BLOCKS`] blocks that give their standard errors.
+pub fn run_periodic_streamed(
     scene: &Scene,
-    start: Instant,
+    measure_from: f64,
     stream: &mut Stream<'_>,
 ) -> Result<RunOutput, RunError> {
-    let (cell, balls) = periodic_balls(scene).ok_or_else(|| {
-        RunError::Input(
-            "--structure periodic: applies to elastic balls moving linearly in a periodic box"
+    if scene.periodic.is_none() {
+        return Err(RunError::Input(
+            "--measure-from: applies to scenes with a periodic box only (their bulk figures)"
                 .to_string(),
-        )
-    })?;
-    let mut gas =
-        PeriodicSpheres::new(cell, &balls).map_err(|e| RunError::Input(format!("objects: {e}")))?;
-    let result = drive(&mut gas, scene.horizon, stream);
-    let output = RunOutput {
-        structure: Structure::Periodic,
-        objects: scene.objects.len(),
-        horizon: scene.horizon,
-        events: Vec::new(),
-        interrupted: None,
-        stats: gas.stats(),
-        structure_stats: gas.counters(),
-        bulk: Some(gas.bulk()),
-        wall_seconds: start.elapsed().as_secs_f64(),
-    };
-    output.finish(result, gas.now())
+        ));
+    }
+    run_periodic(scene, Instant::now(), stream, measure_from)
 }
 
 /// Runs `scene` to its horizon with the named structure (or the chosen one), holding every
@@ -347,7 +340,7 @@ pub fn run_scene_streamed(
                 }
             )));
         }
-        return run_periodic(scene, start, stream);
+        return run_periodic(scene, start, stream, 0.0);
     }
     if chosen == Structure::Cells {
         if times.is_empty() {
@@ -358,7 +351,12 @@ pub fn run_scene_streamed(
             return run_scene_streamed(scene, Some(Structure::Grid), times, sample, stream);
         }
     }
+    let built = Instant::now();
     let (mut world, name) = build_world(scene, structure)?;
+    // Without a named structure the run measures the shortlist as it goes.
+    let mut race = structure
+        .is_none()
+        .then(|| Race::new(scene, name, built.elapsed().as_secs_f64()));
     // Which objects began a contact since the last sample, seen on the way to the sink.
     let begun = RefCell::new(vec![false; if times.is_empty() { 0 } else { world.len() }]);
     let sink = &mut *stream.sink;
@@ -400,7 +398,10 @@ pub fn run_scene_streamed(
         let Some((t, sampled)) = ends.next() else {
             break;
         };
-        result = drive(&mut world, t, &mut inner);
+        result = match race.as_mut() {
+            Some(race) => drive_racing(&mut world, t, race, scene.horizon, &mut inner),
+            None => drive(&mut world, t, &mut inner),
+        };
         if sampled && matches!(result, Ok(Reached::Time)) {
             take_sample(&world);
         }
@@ -413,7 +414,8 @@ pub fn run_scene_streamed(
         _ => None,
     };
     let output = RunOutput {
-        structure: name,
+        structure: race.as_ref().map_or(name, Race::current),
+        race: race.map(Race::into_slices).unwrap_or_default(),
         objects: scene.objects.len(),
         horizon: scene.horizon,
         events: Vec::new(),
@@ -481,10 +483,11 @@ pub fn push_event_line(out: &mut String, e: &ContactEvent) {
         ContactKind::Begin => "begin",
         ContactKind::End => "end",
     };
+    // The shortest decimal that reads back as the same double (`1.25`, `4.0000000002e-10`);
     // `+ 0.0` turns a -0.0 into 0.0.
     let _ = writeln!(
         out,
-        "{{\"t\": {:.10}, \"a\": {}, \"b\": {}, \"kind\": \"{kind}\"}}",
+        "{{\"t\": {:?}, \"a\": {}, \"b\": {}, \"kind\": \"{kind}\"}}",
         e.time + 0.0,
         e.a.0,
         e.b.0
@@ -534,14 +537,25 @@ impl RunOutput {
             "wall_seconds": self.wall_seconds,
         });
         let mut value = value;
-        if let Some(b) = &self.bulk {
+        if let Some(m) = &self.bulk {
+            let (b, e) = (&m.bulk, &m.error);
             value["bulk"] = serde_json::json!({
                 "collision_rate": b.collision_rate,
                 "temperature": b.temperature,
                 "pressure": b.pressure,
                 "compressibility": b.compressibility,
                 "packing": b.packing,
+                "from": m.from,
+                "blocks": BLOCKS,
+                "error": {
+                    "collision_rate": e.collision_rate,
+                    "pressure": e.pressure,
+                    "compressibility": e.compressibility,
+                },
             });
+        }
+        if !self.race.is_empty() {
+            value["race"] = self.race_json();
         }
         if let Some(stop) = &self.interrupted {
             value["interrupted"] = serde_json::json!({"time": stop.time, "reason": stop.reason});
@@ -549,6 +563,36 @@ impl RunOutput {
         let mut text = serde_json::to_string_pretty(&value).unwrap_or_default();
         text.push('\n');
         text
+    }
+
+    /// The race as JSON: each run of slices on one structure (a switch starts the next),
+    /// with its simulated times, wall seconds and build seconds, and each structure's pace
+    /// (wall seconds per unit of simulated time).
+    fn race_json(&self) -> serde_json::Value {
+        let mut legs: Vec<Slice> = Vec::new();
+        for s in &self.race {
+            match legs.last_mut() {
+                Some(last) if last.structure == s.structure && s.build_seconds == 0.0 => {
+                    last.to = s.to;
+                    last.wall_seconds += s.wall_seconds;
+                }
+                _ => legs.push(s.clone()),
+            }
+        }
+        let legs: Vec<serde_json::Value> = legs
+            .iter()
+            .map(|l| {
+                serde_json::json!({
+                    "structure": l.structure.name(),
+                    "from": l.from,
+                    "to": l.to,
+                    "wall_seconds": l.wall_seconds,
+                    "build_seconds": l.build_seconds,
+                    "pace": (l.wall_seconds - l.build_seconds) / (l.to - l.from).max(f64::MIN_POSITIVE),
+                })
+            })
+            .collect();
+        serde_json::json!(legs)
     }
 
     /// A one-line summary for people.

@@ -1,0 +1,182 @@
+//! The hard-sphere simulators as whole-scene runs: elastic balls in walls on the cell grid,
+//! and a periodic box, whose bulk figures are measured over a window of the run that leaves
+//! out its start (melting from a lattice, say), in blocks that give their uncertainty.
+
+use super::{Reached, RunError, RunOutput, Stream, drive};
+use crate::Structure;
+use crate::scene::Scene;
+use crate::structures::{cell_balls, periodic_balls};
+use kinetic_core::WorldError;
+use kinetic_spheres::{Bulk, ElasticCells, PeriodicSpheres};
+use std::time::Instant;
+
+/// The bulk figures' blocks: the window is cut into this many of equal length, and the
+/// figures' uncertainty is the standard error of the block means.
+pub const BLOCKS: usize = 10;
+
+/// A periodic run's bulk figures over its measuring window, with their uncertainty.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MeasuredBulk {
+    /// The figures over the window (the mean of the blocks' figures, which is the window's
+    /// own: the blocks are of equal length and each figure is linear in their sums).
+    pub bulk: Bulk,
+    /// The standard error of each figure, from the spread of the [`BLOCKS`] block figures
+    /// (0 for the temperature and packing, which do not change in an elastic run).
+    pub error: Bulk,
+    /// The simulated time the window starts at (it ends at the horizon).
+    pub from: f64,
+}
+
+/// Runs a scene on the cell grid.
+pub(super) fn run_cells(
+    scene: &Scene,
+    start: Instant,
+    stream: &mut Stream<'_>,
+) -> Result<RunOutput, RunError> {
+    let (walls, balls) = cell_balls(scene).ok_or_else(|| {
+        RunError::Input(
+            "--structure cells: applies to elastic balls moving linearly inside walls in a \
+             \"free\" world, with sizes the grid can hold"
+                .to_string(),
+        )
+    })?;
+    let mut cells =
+        ElasticCells::new(walls, &balls).map_err(|e| RunError::Input(format!("objects: {e}")))?;
+    let result = drive(&mut cells, scene.horizon, stream);
+    let output = RunOutput {
+        structure: Structure::Cells,
+        race: Vec::new(),
+        objects: scene.objects.len(),
+        horizon: scene.horizon,
+        events: Vec::new(),
+        interrupted: None,
+        stats: cells.stats().clone(),
+        structure_stats: cells.counters(),
+        bulk: None,
+        wall_seconds: start.elapsed().as_secs_f64(),
+    };
+    output.finish(result, cells.now())
+}
+
+/// Runs a scene in a periodic box, measuring its bulk figures from `measure_from` (0: the
+/// whole run) to the horizon.
+pub(super) fn run_periodic(
+    scene: &Scene,
+    start: Instant,
+    stream: &mut Stream<'_>,
+    measure_from: f64,
+) -> Result<RunOutput, RunError> {
+    let (cell, balls) = periodic_balls(scene).ok_or_else(|| {
+        RunError::Input(
+            "--structure periodic: applies to elastic balls moving linearly in a periodic box"
+                .to_string(),
+        )
+    })?;
+    if !(measure_from >= 0.0 && measure_from < scene.horizon) {
+        return Err(RunError::Input(format!(
+            "--measure-from {measure_from}: must be at least 0 and before the horizon ({})",
+            scene.horizon
+        )));
+    }
+    let mut gas =
+        PeriodicSpheres::new(cell, &balls).map_err(|e| RunError::Input(format!("objects: {e}")))?;
+    let (result, measured) = measure(&mut gas, scene.horizon, measure_from, stream);
+    let output = RunOutput {
+        structure: Structure::Periodic,
+        race: Vec::new(),
+        objects: scene.objects.len(),
+        horizon: scene.horizon,
+        events: Vec::new(),
+        interrupted: None,
+        stats: gas.stats(),
+        structure_stats: gas.counters(),
+        bulk: measured,
+        wall_seconds: start.elapsed().as_secs_f64(),
+    };
+    output.finish(result, gas.now())
+}
+
+/// Drives `gas` to `horizon`, its bulk figures taken afresh at `from` and over each of
+/// [`BLOCKS`] equal blocks from there; `None` for the figures when the run stopped first.
+fn measure(
+    gas: &mut PeriodicSpheres,
+    horizon: f64,
+    from: f64,
+    stream: &mut Stream<'_>,
+) -> (Result<Reached, WorldError>, Option<MeasuredBulk>) {
+    if from > 0.0 {
+        match drive(gas, from, stream) {
+            Ok(Reached::Time) => {}
+            other => return (other, None),
+        }
+    }
+    let mut blocks = Vec::with_capacity(BLOCKS);
+    for k in 1..=BLOCKS {
+        gas.reset_bulk();
+        let end = if k == BLOCKS {
+            horizon
+        } else {
+            from + (horizon - from) * k as f64 / BLOCKS as f64
+        };
+        match drive(gas, end, stream) {
+            Ok(Reached::Time) => blocks.push(gas.bulk()),
+            other => return (other, None),
+        }
+    }
+    (Ok(Reached::Time), Some(combine(&blocks, from)))
+}
+
+/// The mean and standard error of the blocks' figures.
+fn combine(blocks: &[Bulk], from: f64) -> MeasuredBulk {
+    let n = blocks.len() as f64;
+    let stat = |f: fn(&Bulk) -> f64| {
+        let mean = blocks.iter().map(f).sum::<f64>() / n;
+        let var = blocks.iter().map(|b| (f(b) - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+        (mean, (var / n).sqrt())
+    };
+    let (rate, rate_err) = stat(|b| b.collision_rate);
+    let (pressure, pressure_err) = stat(|b| b.pressure);
+    let (z, z_err) = stat(|b| b.compressibility);
+    let last = blocks[blocks.len() - 1];
+    MeasuredBulk {
+        bulk: Bulk {
+            collision_rate: rate,
+            pressure,
+            compressibility: z,
+            ..last
+        },
+        error: Bulk {
+            collision_rate: rate_err,
+            temperature: 0.0,
+            pressure: pressure_err,
+            compressibility: z_err,
+            packing: 0.0,
+        },
+        from,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn blocks_give_their_mean_and_standard_error() {
+        let block = |rate: f64| Bulk {
+            collision_rate: rate,
+            temperature: 1.0,
+            pressure: 2.0 * rate,
+            compressibility: rate,
+            packing: 0.3,
+        };
+        let m = combine(&[block(1.0), block(2.0), block(3.0)], 5.0);
+        assert_eq!(m.bulk.collision_rate, 2.0);
+        assert_eq!(m.bulk.pressure, 4.0);
+        assert_eq!(m.bulk.packing, 0.3);
+        // Sample standard deviation 1 over three blocks.
+        assert!((m.error.collision_rate - 1.0 / 3f64.sqrt()).abs() < 1e-15);
+        assert!((m.error.pressure - 2.0 / 3f64.sqrt()).abs() < 1e-15);
+        assert_eq!(m.error.temperature, 0.0);
+        assert_eq!(m.from, 5.0);
+    }
+}
