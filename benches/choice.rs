@@ -1,209 +1,327 @@
-//! The default choice of structure against every structure, on the choice family
-//! (`kinetic_scenes::choice`): each structure's wall time on each scene (stopped at a budget
-//! once it is far behind the fastest), the default's pick and its time over the fastest's.
-//! Writes `docs/results/choice.csv`.
+//! The default (no structure named: the model's pick, raced against its shortlist as the run
+//! goes) against every structure, on draws of the scene space (`kinetic_scenes::space`) or on
+//! the choice family (`kinetic_scenes::choice`): each structure's wall time (stopped at a
+//! budget once it is far behind the fastest), the default's, and the default's time over the
+//! fastest structure's, per draw, with the worst and the median. Writes
+//! `docs/results/choice.csv`.
 //!
-//! `cargo bench --bench choice -- [SIZES...] [--budget SECONDS] [--kinds a,b,...]
-//! [--structures a,b,...] [--out FILE]` (sizes default to 100 1000 10000; `--structures`
-//! times only those beside the default's pick, for runs at 1e6 where a slow build alone
-//! would take minutes). The brute force is left out above 3,000 objects: its
-//! build alone makes n^2 / 2 certificates, and a budget stops runs only between events.
-//! Runs under 20 ms are the best of five.
+//! `cargo bench --bench choice -- [--draws K] [--seed S] [--max-objects N] [--budget SECONDS]
+//! [--out FILE]` draws K scenes (default 40) from seed S (default 1) with at most N objects
+//! (default 100,000); `-- --family [SIZES...] [--kinds a,b,...]` runs the family instead;
+//! `--scenes DIR` also writes each scene there (`draw-SEED.json`) for `kinetic-collide run`.
+//! Every run is a fresh process of the tool (`run --events none --stats`, timed by its own
+//! `wall_seconds`), as a user's would be, killed at its budget. A screen times the default
+//! and every structure once (a structure far behind the fastest is stopped at four times
+//! its time); then the default and the fastest structure run three more times each,
+//! interleaved, and each side's median counts. Runs under 0.1 s are the median of five. The
+//! brute force is left out above 3,000 objects (its build alone makes n^2 / 2
+//! certificates).
 
 use kinetic_collide::Structure;
-use kinetic_collide::run::{Stream, run_scene_streamed};
-use kinetic_scenes::choice::{ChoiceCase, KINDS, choice_scene, response_name, world_name};
-use std::ops::ControlFlow;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Duration;
+use kinetic_collide::scene::Scene;
+use kinetic_scenes::choice::{KINDS, choice_scene, response_name, world_name};
+use kinetic_scenes::space;
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
 
 /// Runs shorter than this many seconds...
-const SHORT: f64 = 0.02;
-/// ... are timed this many times, and the best counts.
+const SHORT: f64 = 0.1;
+/// ... are timed this many times, and the median counts.
 const SHORT_RUNS: usize = 5;
+/// The default and the fastest structure are then timed this many times more each,
+/// interleaved...
+const DUELS: usize = 3;
+/// ... or once more where the fastest takes longer than this many seconds.
+const DUEL_LONG: f64 = 3.0;
+/// Timings under this many seconds count as this in ratios (noise below it).
+const FLOOR: f64 = 1e-3;
 
-/// One structure's run of one scene.
+/// One run of one scene.
+#[derive(Clone)]
 struct Timing {
     seconds: f64,
     /// Stopped at the budget before the horizon.
     stopped: bool,
-    events: u64,
-    contacts: u64,
+    /// The structure that ended the run.
+    structure: Structure,
 }
 
-fn timed(scene: &kinetic_collide::scene::Scene, s: Structure, budget: f64) -> Option<Timing> {
-    let stop = Arc::new(AtomicBool::new(false));
-    let done = Arc::new(AtomicBool::new(false));
-    let timer = {
-        let (stop, done) = (stop.clone(), done.clone());
-        std::thread::spawn(move || {
-            let start = std::time::Instant::now();
-            while !done.load(Ordering::Relaxed) {
-                if start.elapsed().as_secs_f64() > budget {
-                    stop.store(true, Ordering::Relaxed);
-                    return;
-                }
-                std::thread::sleep(Duration::from_millis(5));
-            }
-        })
-    };
-    let mut sink = |_: &[kinetic_collide::ContactEvent]| ControlFlow::Continue(());
-    let mut stream = Stream {
-        sink: &mut sink,
-        stop: Some(&stop),
-    };
-    let out = run_scene_streamed(scene, Some(s), &[], &mut |_, _| {}, &mut stream);
-    done.store(true, Ordering::Relaxed);
-    let _ = timer.join();
-    let out = out.ok()?;
+/// Runs `scene` (written at `path`) on `s` (None: the default) in a fresh process of the
+/// tool, as a user would (`run --events none --stats`), killed after `budget` seconds; the
+/// time is the run's own `wall_seconds` (the detection, without reading the scene).
+fn timed_once(path: &Path, s: Option<Structure>, budget: f64) -> Option<Timing> {
+    let stats = path.with_extension("stats.json");
+    let _ = std::fs::remove_file(&stats);
+    let mut command = Command::new(env!("CARGO_BIN_EXE_kinetic-collide"));
+    command
+        .arg("run")
+        .arg(path)
+        .args(["--events", "none", "--stats"])
+        .arg(&stats)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null());
+    if let Some(s) = s {
+        command.args(["--structure", s.name()]);
+    }
+    let mut child = command.spawn().ok()?;
+    let start = Instant::now();
+    loop {
+        if child.try_wait().ok()?.is_some() {
+            break;
+        }
+        if start.elapsed().as_secs_f64() > budget {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Some(Timing {
+                seconds: budget,
+                stopped: true,
+                structure: s.unwrap_or(Structure::BruteForce),
+            });
+        }
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    let text = std::fs::read_to_string(&stats).ok()?;
+    let v: serde_json::Value = serde_json::from_str(&text).ok()?;
     Some(Timing {
-        seconds: out.wall_seconds,
-        stopped: out.interrupted.is_some(),
-        events: out.stats.events_total(),
-        contacts: out.stats.begins,
+        seconds: v["wall_seconds"].as_f64()?,
+        stopped: false,
+        structure: Structure::from_name(v["structure"].as_str()?)?,
     })
 }
 
+/// [`timed_once`]; for short runs the median of five.
+fn timed(scene: &Path, s: Option<Structure>, budget: f64) -> Option<Timing> {
+    let t = timed_once(scene, s, budget)?;
+    if t.stopped || t.seconds >= SHORT {
+        return Some(t);
+    }
+    let mut runs = vec![t];
+    for _ in 1..SHORT_RUNS {
+        runs.extend(timed_once(scene, s, budget));
+    }
+    Some(middle(runs))
+}
+
+/// The run of median time.
+fn middle(mut runs: Vec<Timing>) -> Timing {
+    runs.sort_by(|a, b| a.seconds.total_cmp(&b.seconds));
+    runs.swap_remove(runs.len() / 2)
+}
+
+/// The default and every structure on one scene.
+struct Row {
+    default: Timing,
+    structures: Vec<(Structure, Timing)>,
+}
+
+impl Row {
+    /// The fastest structure that finished, and its time.
+    fn fastest(&self) -> (Structure, f64) {
+        self.structures
+            .iter()
+            .filter(|(_, t)| !t.stopped)
+            .map(|(s, t)| (*s, t.seconds))
+            .fold((self.default.structure, f64::INFINITY), |a, b| {
+                if b.1 < a.1 { b } else { a }
+            })
+    }
+
+    /// The default's time over the fastest structure's.
+    fn ratio(&self) -> f64 {
+        let mine = if self.default.stopped {
+            f64::INFINITY
+        } else {
+            self.default.seconds
+        };
+        mine.max(FLOOR) / self.fastest().1.max(FLOOR)
+    }
+
+    fn times(&self) -> String {
+        let t: Vec<String> = self
+            .structures
+            .iter()
+            .map(|(s, t)| {
+                let over = if t.stopped { ">" } else { "" };
+                format!("{}:{over}{:.4}", s.name(), t.seconds)
+            })
+            .collect();
+        t.join(" ")
+    }
+}
+
+fn measure(scene: &Scene, budget: f64) -> Option<Row> {
+    let path = std::env::temp_dir().join(format!(
+        "kinetic-collide-choice-{}.json",
+        std::process::id()
+    ));
+    std::fs::write(&path, scene.to_json()).ok()?;
+    // The screen: the default, then every structure, each stopped once far behind.
+    let mut defaults = vec![timed(&path, None, budget)?];
+    let mut structures: Vec<(Structure, Timing)> = Vec::new();
+    for s in Structure::ALL {
+        if !s.applies_to(scene) || (s == Structure::BruteForce && scene.objects.len() > 3000) {
+            continue;
+        }
+        let best = structures
+            .iter()
+            .filter(|(_, t)| !t.stopped)
+            .map(|(_, t)| t.seconds)
+            .fold(defaults[0].seconds, f64::min);
+        let cap = budget.min((best * 4.0).max(0.5));
+        if let Some(t) = timed(&path, Some(s), cap) {
+            structures.push((s, t));
+        }
+    }
+    // The duel: the default and the fastest structure of the screen, interleaved, DUELS
+    // more times each (once where the fastest takes over DUEL_LONG seconds); each side's
+    // median run counts.
+    let fastest = structures
+        .iter()
+        .filter(|(_, t)| !t.stopped)
+        .min_by(|a, b| a.1.seconds.total_cmp(&b.1.seconds))
+        .map(|(s, t)| (*s, t.clone()));
+    if let Some((fast, first)) = fastest {
+        let rounds = if first.seconds > DUEL_LONG { 1 } else { DUELS };
+        let mut runs = vec![first];
+        for _ in 0..rounds {
+            defaults.extend(timed(&path, None, budget));
+            runs.extend(timed(&path, Some(fast), budget));
+        }
+        let kept = middle(runs);
+        for (s, t) in structures.iter_mut() {
+            if *s == fast {
+                *t = kept.clone();
+            }
+        }
+    }
+    let _ = std::fs::remove_file(&path);
+    Some(Row {
+        default: middle(defaults),
+        structures,
+    })
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    let m = v.len() / 2;
+    if v.len() % 2 == 1 {
+        v[m]
+    } else {
+        (v[m - 1] + v[m]) / 2.0
+    }
+}
+
 fn main() {
-    let mut sizes = Vec::new();
+    let mut draws = 40usize;
+    let mut seed = 1u64;
+    let mut max_objects = 100_000usize;
     let mut budget: f64 = 20.0;
     let mut out = String::from("docs/results/choice.csv");
+    let mut family = false;
+    let mut sizes = Vec::new();
     let mut kinds: Option<Vec<String>> = None;
-    let mut only: Option<Vec<String>> = None;
+    let mut scenes_dir: Option<String> = None;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
+        let mut value = || args.next().unwrap_or_default();
         match a.as_str() {
-            "--budget" => budget = args.next().and_then(|v| v.parse().ok()).unwrap_or(budget),
-            "--out" => out = args.next().unwrap_or(out),
-            "--kinds" => {
-                kinds = args
-                    .next()
-                    .map(|k| k.split(',').map(String::from).collect())
-            }
-            "--structures" => {
-                only = args
-                    .next()
-                    .map(|k| k.split(',').map(String::from).collect())
-            }
+            "--draws" => draws = value().parse().unwrap_or(draws),
+            "--seed" => seed = value().parse().unwrap_or(seed),
+            "--max-objects" => max_objects = value().parse().unwrap_or(max_objects),
+            "--budget" => budget = value().parse().unwrap_or(budget),
+            "--out" => out = value(),
+            "--family" => family = true,
+            "--scenes" => scenes_dir = Some(value()),
+            "--kinds" => kinds = Some(value().split(',').map(String::from).collect()),
             "--bench" => {}
             _ => sizes.extend(a.parse::<usize>().ok()),
         }
     }
-    if sizes.is_empty() {
-        sizes = vec![100, 1000, 10000];
-    }
-    let mut csv = String::from(
-        "kind,n,world,response,structure,seconds,stopped,events,contacts,events_per_contact,default\n",
-    );
-    println!("| scene | n | default | default / fastest | fastest | times (s) |");
-    println!("|---|---|---|---|---|---|");
-    let mut worst: f64 = 1.0;
-    // Scenes are built one at a time, and only those of the kinds asked for: at 1e6 objects
-    // the kinds that place balls apart take minutes to build.
-    let cases = sizes
-        .iter()
-        .flat_map(|&n| KINDS.iter().map(move |&kind| (kind, n)));
-    for (kind, n) in cases {
-        if kinds.as_ref().is_some_and(|k| !k.iter().any(|k| k == kind)) {
-            continue;
+    let scenes: Vec<(String, String, Scene)> = if family {
+        if sizes.is_empty() {
+            sizes = vec![100, 1000, 10000];
         }
-        let Some(scene) = choice_scene(kind, n, 1) else {
+        let mut v = Vec::new();
+        for &n in &sizes {
+            for kind in KINDS {
+                if kinds.as_ref().is_some_and(|k| !k.iter().any(|k| k == kind)) {
+                    continue;
+                }
+                if let Some(scene) = choice_scene(kind, n, 1) {
+                    v.push((format!("{kind}-{n}"), kind.to_string(), scene));
+                }
+            }
+        }
+        v
+    } else {
+        (seed..seed + draws as u64)
+            .map(|s| {
+                let d = space::draw(s, max_objects);
+                (s.to_string(), d.label, d.scene)
+            })
+            .collect()
+    };
+    let mut csv = String::from(
+        "draw,scene,objects,world,response,default_structure,default_seconds,fastest,fastest_seconds,ratio,times\n",
+    );
+    println!("| draw | scene | default | fastest | default / fastest |");
+    println!("|---|---|---|---|---|");
+    let mut ratios = Vec::new();
+    for (id, label, scene) in &scenes {
+        if let Some(dir) = &scenes_dir {
+            let _ = std::fs::create_dir_all(dir);
+            let path = std::path::Path::new(dir).join(format!("draw-{id}.json"));
+            if let Err(e) = std::fs::write(&path, scene.to_json()) {
+                eprintln!("{}: {e}", path.display());
+            }
+        }
+        let Some(row) = measure(scene, budget) else {
+            eprintln!("{id}: {label}: the default did not run");
             continue;
         };
-        let case = ChoiceCase { kind, n, scene };
-        let scene = &case.scene;
-        let pick = Structure::for_scene(scene);
-        let mut rows: Vec<(Structure, Timing)> = Vec::new();
-        // The default's pick first: the others are then stopped at a few times its time.
-        let order = std::iter::once(pick).chain(Structure::ALL.into_iter().filter(|&s| s != pick));
-        for s in order {
-            let named = only
-                .as_ref()
-                .is_none_or(|o| s == pick || o.iter().any(|n| n == s.name()));
-            if !named
-                || !s.applies_to(scene)
-                || (s == Structure::BruteForce && scene.objects.len() > 3000)
-            {
-                continue;
-            }
-            // Once a structure is far behind, stop it at a few times the fastest.
-            let best = rows
-                .iter()
-                .filter(|(_, t)| !t.stopped)
-                .map(|(_, t)| t.seconds)
-                .fold(f64::INFINITY, f64::min);
-            let cap = budget.min((best * 4.0).max(0.5));
-            if let Some(mut t) = timed(scene, s, cap) {
-                // Runs of a few milliseconds vary by 2x from one to the next (the first
-                // structure timed on a scene pays for fresh memory): the best of five.
-                for _ in 1..SHORT_RUNS {
-                    if t.stopped || t.seconds >= SHORT {
-                        break;
-                    }
-                    if let Some(again) = timed(scene, s, cap)
-                        && !again.stopped
-                        && again.seconds < t.seconds
-                    {
-                        t = again;
-                    }
-                }
-                rows.push((s, t));
-            }
-        }
-        rows.sort_by_key(|(s, _)| Structure::ALL.iter().position(|x| x == s));
-        let (fast, best) = rows
-            .iter()
-            .filter(|(_, t)| !t.stopped)
-            .map(|(s, t)| (*s, t.seconds))
-            .fold((pick, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
-        let mine = rows
-            .iter()
-            .find(|(s, _)| *s == pick)
-            .map_or(f64::INFINITY, |(_, t)| {
-                if t.stopped { f64::INFINITY } else { t.seconds }
-            });
-        // Timings under a millisecond are noise: compare from there.
-        let ratio = mine.max(1e-3) / best.max(1e-3);
-        worst = worst.max(ratio);
-        let times: Vec<String> = rows
-            .iter()
-            .map(|(s, t)| {
-                format!(
-                    "{} {}{:.3}",
-                    s.name(),
-                    if t.stopped { ">" } else { "" },
-                    t.seconds
-                )
-            })
-            .collect();
+        let (fast, best) = row.fastest();
+        let ratio = row.ratio();
+        ratios.push(ratio);
         println!(
-            "| {} | {} | {} | {:.2} | {} | {} |",
-            case.kind,
-            scene.objects.len(),
-            pick.name(),
-            ratio,
+            "| {id} | {label} | {} {:.4} s | {} {:.4} s | {ratio:.2} |",
+            row.default.structure.name(),
+            row.default.seconds,
             fast.name(),
-            times.join(", ")
+            best
         );
-        for (s, t) in &rows {
-            csv.push_str(&format!(
-                "{},{},{},{},{},{:.6},{},{},{},{:.2},{}\n",
-                case.kind,
-                scene.objects.len(),
-                world_name(scene),
-                response_name(scene),
-                s.name(),
-                t.seconds,
-                t.stopped,
-                t.events,
-                t.contacts,
-                t.events as f64 / t.contacts.max(1) as f64,
-                *s == pick
-            ));
-        }
+        csv.push_str(&format!(
+            "{id},{label},{},{},{},{},{:.6},{},{:.6},{ratio:.3},{}\n",
+            scene.objects.len(),
+            world_name(scene),
+            if scene.periodic.is_some() {
+                "periodic"
+            } else {
+                response_name(scene)
+            },
+            row.default.structure.name(),
+            row.default.seconds,
+            fast.name(),
+            best,
+            row.times()
+        ));
     }
-    println!("\nworst default / fastest: {worst:.2}");
+    // A draw on which every run passed the budget has no ratio: it is counted apart.
+    let over = ratios.iter().filter(|r| r.is_nan()).count();
+    ratios.retain(|r| !r.is_nan());
+    let worst = ratios.iter().copied().fold(f64::NAN, f64::max);
+    let mid = median(ratios.clone());
+    println!(
+        "\n{} scenes: worst default / fastest {worst:.2}, median {mid:.2}; {over} with every \
+         run over the {budget} s budget",
+        ratios.len()
+    );
+    csv.push_str(&format!(
+        "worst,,,,,,,,,{worst:.3},\nmedian,,,,,,,,,{mid:.3},\n"
+    ));
     if let Some(dir) = std::path::Path::new(&out).parent() {
         let _ = std::fs::create_dir_all(dir);
     }

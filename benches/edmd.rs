@@ -2,7 +2,7 @@
 //!
 //! ```text
 //! cargo bench --bench edmd -- [--edmd DIR] [--systems N:PACKING,...] [--collisions C]
-//!                              [--repeat K] [--out FILE]
+//!                              [--repeat K] [--out FILE] [--tool PATH]
 //! ```
 //!
 //! For each system (default `32000:0.26,32000:0.45`) it runs EDMD (Smallenburg's
@@ -19,7 +19,9 @@
 //!   bench says so and runs ours alone for `C` collisions.
 //! - Ours: the same `N`, packing and number of collisions as EDMD's run: `kinetic-collide
 //!   generate --periodic`'s system (a lattice start above packing 0.3, random below),
-//!   simulated on [`PeriodicSpheres`] in a fresh process with no event log written.
+//!   simulated on [`PeriodicSpheres`] in a fresh process with no event log written; with
+//!   `--tool PATH` (the built `kinetic-collide`), the tool itself: `generate --periodic`
+//!   writes the system (not timed), and `run --events none --stats` is the process timed.
 //!
 //! Both are timed as whole processes (start, simulation, exit) and their peak resident memory
 //! is the process's (GNU time's maximum resident set). The table goes to standard output and
@@ -149,6 +151,44 @@ fn ours(system: System, collisions: f64) -> Result<Measured, String> {
 }
 
 /// EDMD built for one system in a scratch folder.
+/// Ours from the command-line tool: `generate --periodic` writes the system (not timed),
+/// then `run --events none --stats` is the timed process; the collisions and `Z` are read
+/// from its statistics.
+fn ours_tool(tool: &Path, system: System, collisions: f64) -> Result<Measured, String> {
+    let work = std::env::temp_dir().join(format!("kinetic-collide-tool-{}", std::process::id()));
+    std::fs::create_dir_all(&work).map_err(|e| e.to_string())?;
+    let scene = work.join(format!("{}.json", system.name()));
+    let stats = work.join("stats.json");
+    let generated = std::process::Command::new(tool)
+        .args(["generate", "--periodic", "--n", &system.n.to_string()])
+        .args(["--packing", &system.packing.to_string()])
+        .args(["--collisions", &collisions.to_string(), "-o"])
+        .arg(&scene)
+        .output()
+        .map_err(|e| format!("{}: {e}", tool.display()))?;
+    if !generated.status.success() {
+        return Err(String::from_utf8_lossy(&generated.stderr).into_owned());
+    }
+    let (scene, stats_path) = (scene.to_string_lossy(), stats.to_string_lossy());
+    let run = timed(
+        &work,
+        tool,
+        &["run", &scene, "--events", "none", "--stats", &stats_path],
+    )?;
+    let text = std::fs::read_to_string(&stats).map_err(|e| e.to_string())?;
+    let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| e.to_string())?;
+    let collisions = v["events"]["by_kind"]["collision"]
+        .as_f64()
+        .ok_or("no collision count in the statistics")?;
+    let z = v["bulk"]["compressibility"].as_f64().unwrap_or(f64::NAN);
+    Ok(Measured {
+        collisions,
+        seconds: run.seconds,
+        peak_kb: run.peak_kb,
+        z,
+    })
+}
+
 struct Edmd {
     work: PathBuf,
 }
@@ -268,6 +308,7 @@ fn main() {
     let mut collisions = 3e6;
     let mut repeat = 3usize;
     let mut out = PathBuf::from("docs/results/edmd.csv");
+    let mut tool: Option<PathBuf> = None;
     let mut systems = vec![
         System {
             n: 32000,
@@ -286,6 +327,7 @@ fn main() {
             "--collisions" => collisions = value().parse().expect("--collisions: a number"),
             "--repeat" => repeat = value().parse::<usize>().expect("--repeat: a count").max(1),
             "--out" => out = PathBuf::from(value()),
+            "--tool" => tool = Some(PathBuf::from(value())),
             "--systems" => {
                 systems = value()
                     .split(',')
@@ -351,7 +393,11 @@ fn main() {
                 }
             }
             eprintln!("{name}: kinetic-collide, run {r} of {repeat} ...");
-            match ours(system, target) {
+            let measured = match &tool {
+                Some(tool) => ours_tool(tool, system, target),
+                None => ours(system, target),
+            };
+            match measured {
                 Ok(m) => ours_runs.push(m),
                 Err(e) => eprintln!("{name}: kinetic-collide: {e}"),
             }

@@ -153,7 +153,7 @@ impl BallScene {
 }
 
 /// A random direction (zero, rarely).
-fn random_unit(rng: &mut ChaCha8Rng) -> DVec3 {
+pub(crate) fn random_unit(rng: &mut ChaCha8Rng) -> DVec3 {
     DVec3::new(
         rng.random_range(-1.0..1.0),
         rng.random_range(-1.0..1.0),

@@ -15,7 +15,7 @@
 //!   half, and in a third of the draws bullets: up to 5% of the objects 30 to 300 times as
 //!   fast (elastic systems: 0.1 to 20 collisions per sphere, at the thermal speeds of kT = 1).
 
-use crate::generators::{BallScene, FlightScene, ShapeMix};
+use crate::generators::{BallScene, FlightScene, ShapeMix, random_unit};
 use crate::hard_spheres::HardSpheres;
 use glam::DVec3;
 use kinetic_collide::scene::{Scene, SceneObject};
@@ -198,16 +198,6 @@ fn box_side(scene: &Scene) -> f64 {
     }
     let span = hi - lo;
     span.x.max(span.y).max(span.z).max(1.0)
-}
-
-/// A random direction (zero, rarely).
-fn random_unit(rng: &mut ChaCha8Rng) -> DVec3 {
-    DVec3::new(
-        rng.random_range(-1.0..1.0),
-        rng.random_range(-1.0..1.0),
-        rng.random_range(-1.0..1.0),
-    )
-    .normalize_or_zero()
 }
 
 #[cfg(test)]

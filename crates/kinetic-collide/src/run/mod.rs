@@ -6,7 +6,7 @@ use crate::scene::{Scene, ShapeSpec};
 mod spheres;
 
 pub use crate::structures::Slice;
-use crate::structures::{FLIGHT_PARTS, Race};
+use crate::structures::{BRUTE_FORCE_START_MAX, FLIGHT_PARTS, PROBE_OBJECTS, Race, pair_cost};
 use crate::{Structure, World};
 use kinetic_core::{ContactEvent, ContactKind, Shape, Stats, WorldError};
 use kinetic_flight::ConvexShape;
@@ -219,6 +219,30 @@ fn drive(
     })
 }
 
+/// The world a raced run starts on, its structure and its build's wall seconds: the model's
+/// pick, unless that is the brute force and its build would cost more than twice the box
+/// structure's (measured: the box structure built, and the brute force's build estimated
+/// from a probe, [`pair_cost`]), or it has more than [`BRUTE_FORCE_START_MAX`] objects; then
+/// the model's box structure, and the race weighs the brute force later.
+fn raced_start(scene: &Scene, chosen: Structure) -> Result<(World, Structure, f64), RunError> {
+    let n = scene.objects.len();
+    let built = Instant::now();
+    if chosen != Structure::BruteForce || n <= PROBE_OBJECTS {
+        let (world, name) = build_world(scene, Some(chosen))?;
+        return Ok((world, name, built.elapsed().as_secs_f64()));
+    }
+    let (world, name) = build_world(scene, Some(Structure::boxes_for(scene)))?;
+    let boxes = built.elapsed().as_secs_f64();
+    let pairs = (n * (n - 1) / 2) as f64;
+    if n > BRUTE_FORCE_START_MAX || pair_cost(&world) * pairs > 2.0 * boxes {
+        return Ok((world, name, boxes));
+    }
+    drop(world);
+    let built = Instant::now();
+    let (world, name) = build_world(scene, Some(chosen))?;
+    Ok((world, name, built.elapsed().as_secs_f64()))
+}
+
 /// [`drive`] in the race's slices: each slice timed, and the world handed to the structure
 /// the race names after it.
 fn drive_racing(
@@ -233,7 +257,11 @@ fn drive_racing(
         let to = race.slice_end(from).min(until);
         let start = Instant::now();
         let reached = drive(world, to, stream)?;
-        let next = race.slice_done(from, to, start.elapsed().as_secs_f64());
+        let wall = start.elapsed().as_secs_f64();
+        let stats = world.stats();
+        let pairs = stats.events_by_kind.get("collision").copied().unwrap_or(0);
+        race.contact_share(pairs as f64 / stats.events_total().max(1) as f64);
+        let next = race.slice_done(from, to, wall, &mut || pair_cost(world));
         if let Some(next) = next {
             let build = Instant::now();
             world.switch_structure(next, horizon / FLIGHT_PARTS)?;
@@ -351,12 +379,15 @@ pub fn run_scene_streamed(
             return run_scene_streamed(scene, Some(Structure::Grid), times, sample, stream);
         }
     }
-    let built = Instant::now();
-    let (mut world, name) = build_world(scene, structure)?;
     // Without a named structure the run measures the shortlist as it goes.
-    let mut race = structure
-        .is_none()
-        .then(|| Race::new(scene, name, built.elapsed().as_secs_f64()));
+    let (mut world, name, build) = match structure {
+        Some(named) => {
+            let (world, name) = build_world(scene, Some(named))?;
+            (world, name, 0.0)
+        }
+        None => raced_start(scene, chosen)?,
+    };
+    let mut race = structure.is_none().then(|| Race::new(scene, name, build));
     // Which objects began a contact since the last sample, seen on the way to the sink.
     let begun = RefCell::new(vec![false; if times.is_empty() { 0 } else { world.len() }]);
     let sink = &mut *stream.sink;

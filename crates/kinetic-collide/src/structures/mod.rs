@@ -13,8 +13,8 @@ mod scene_measures;
 mod scene_world;
 
 pub(crate) use auto::Auto;
-pub(crate) use race::Race;
 pub use race::Slice;
+pub(crate) use race::{BRUTE_FORCE_START_MAX, PROBE_OBJECTS, Race, pair_cost};
 pub(crate) use registry::FLIGHT_PARTS;
 pub use registry::Structure;
 pub(crate) use scene_world::{cell_balls, periodic_balls};

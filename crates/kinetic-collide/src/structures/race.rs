@@ -13,12 +13,14 @@
 //! slices; a scene whose work moves along its horizon is measured again at each check.
 
 use super::Structure;
+use crate::World;
 use crate::scene::Scene;
-use kinetic_core::WorldKind;
+use kinetic_core::{FlightPlan, Shape, WorldKind};
+use std::time::Instant;
 
 /// The share of the run's projected wall time the trials may cost (builds, rebuilds and
 /// time beyond the leader's pace).
-pub(crate) const SHARE: f64 = 0.05;
+pub(crate) const SHARE: f64 = 0.1;
 
 /// A trial running slower than this many times the leader's pace stops there: it has lost.
 pub(crate) const ABORT: f64 = 2.0;
@@ -28,14 +30,48 @@ pub(crate) const ABORT: f64 = 2.0;
 const MARGIN: f64 = 0.05;
 
 /// The least wall time a measurement takes, in seconds: shorter ones are mostly noise.
-const LEAST_WALL: f64 = 0.005;
+const LEAST_WALL: f64 = 0.001;
 
 /// The share of the horizon the first slice covers; slices double until one takes
 /// [`LEAST_WALL`].
 const FIRST_SLICE: f64 = 1.0 / 4096.0;
 
-/// The brute force is raced only up to this many objects (its pairs grow as the square).
-const BRUTE_FORCE_MAX: usize = 1500;
+/// Above this many objects a run does not start on the brute force to measure it (its build
+/// alone makes n^2 / 2 certificates): it starts on the box structure, and the brute force is
+/// tried only when its build, estimated from the measured cost of a pair certificate
+/// ([`pair_cost`]), fits the budget or is paid back by the rest of the run.
+pub(crate) const BRUTE_FORCE_START_MAX: usize = 1500;
+
+/// The brute force is never tried above this many objects: its pairs (4.5 million here)
+/// would take gigabytes before any measurement could stop them.
+const BRUTE_FORCE_TRIAL_MAX: usize = 3000;
+
+/// Objects in the sample [`pair_cost`] times.
+pub(crate) const PROBE_OBJECTS: usize = 64;
+
+/// The wall seconds one pair certificate of this world costs to make: the brute force's build
+/// timed on a sample of up to [`PROBE_OBJECTS`] of its objects, spread over the ids (so over
+/// its sizes and shapes), with their plans at the world's time.
+pub(crate) fn pair_cost(world: &World) -> f64 {
+    let bodies: Vec<&kinetic_core::Body> = world.bodies().iter().flatten().collect();
+    if bodies.len() < 2 {
+        return 0.0;
+    }
+    let step = bodies.len().div_ceil(PROBE_OBJECTS).max(1);
+    let sample: Vec<(Shape, FlightPlan)> = bodies
+        .iter()
+        .step_by(step)
+        .map(|b| (b.shape.clone(), b.plan))
+        .collect();
+    let k = sample.len() as f64;
+    let start = Instant::now();
+    // Passing through each other: the certificates, without walls or bounces.
+    let mut probe = kinetic_core::Simulator::new(world.kind());
+    if probe.add_objects(sample).is_err() {
+        return 0.0;
+    }
+    start.elapsed().as_secs_f64() / (k * (k - 1.0) / 2.0)
+}
 
 /// One slice of a run and the structure that ran it.
 #[derive(Clone, Debug, PartialEq)]
@@ -76,36 +112,55 @@ pub(crate) struct Race {
     pace: f64,
     /// The structures still to try, in order, and the runner-up's pace when known.
     to_try: Vec<Structure>,
+    /// The structures passed over for the budget: tried at a later check, when the run
+    /// has grown.
+    untried: Vec<Structure>,
     paces: Vec<(Structure, f64)>,
     /// The simulated time and wall seconds measured so far in this phase.
     measured_from: f64,
     measured_wall: f64,
     /// The slice length in simulated time.
     slice: f64,
-    /// The trials' cost so far, and what they may cost.
+    /// The trials' cost so far.
     spent: f64,
-    budget: f64,
     /// The simulated time of the next check once settled.
     next_check: f64,
     /// The build that began the current slice, to note on it.
     build: f64,
+    /// The brute force's build: its pairs at the measured cost of a pair certificate,
+    /// measured when first needed.
+    brute_force_build: Option<f64>,
+    /// The number of objects.
+    objects: f64,
+    /// Objects pass through each other (no response): the brute force's events are then
+    /// the contacts alone, which every structure processes too.
+    passing: bool,
+    /// The share of pair events among the run's events so far.
+    contact_share: f64,
     slices: Vec<Slice>,
 }
 
 impl Race {
     /// A race for `scene` starting on `pick`, which took `build_seconds` to build: the
-    /// structures that may beat it are the other box structures that run in its world, and
-    /// the brute force for up to [`BRUTE_FORCE_MAX`] objects. An empty shortlist makes a run
-    /// on `pick` alone.
+    /// structures that may beat it are the other box structures that run in its world and
+    /// the brute force. An empty shortlist makes a run on `pick` alone.
     pub(crate) fn new(scene: &Scene, pick: Structure, build_seconds: f64) -> Race {
-        let mut shortlist = vec![Structure::LooseGrid, Structure::Grid, Structure::Sweep];
-        if scene.objects.len() <= BRUTE_FORCE_MAX {
-            shortlist.push(Structure::BruteForce);
-        }
+        // The grid first: it holds any spread of sizes at a small cost per object.
+        let shortlist = [
+            Structure::Grid,
+            Structure::LooseGrid,
+            Structure::Sweep,
+            Structure::BruteForce,
+        ];
+        let n = scene.objects.len() as f64;
+        let passing = scene.response == kinetic_core::Response::None;
         let to_try = if pick.runs_in_a_world() && scene.periodic.is_none() {
             shortlist
                 .into_iter()
                 .filter(|&s| s != pick && s.applies_to(scene))
+                .filter(|&s| {
+                    s != Structure::BruteForce || scene.objects.len() <= BRUTE_FORCE_TRIAL_MAX
+                })
                 .filter(|&s| scene.world == WorldKind::Free || s != Structure::Guards)
                 .collect()
         } else {
@@ -123,14 +178,18 @@ impl Race {
             leader: pick,
             pace: f64::NAN,
             to_try,
+            untried: Vec::new(),
             paces: Vec::new(),
             measured_from: 0.0,
             measured_wall: 0.0,
             slice: horizon * FIRST_SLICE,
             spent: 0.0,
-            budget: 0.0,
             next_check: f64::INFINITY,
             build: build_seconds,
+            brute_force_build: None,
+            objects: n,
+            passing,
+            contact_share: 1.0,
             slices: Vec::new(),
         }
     }
@@ -152,8 +211,16 @@ impl Race {
     }
 
     /// The slice from `from` to `to` took `wall` seconds on the current structure (its build
-    /// excluded). Returns the structure to switch to, if any.
-    pub(crate) fn slice_done(&mut self, from: f64, to: f64, wall: f64) -> Option<Structure> {
+    /// excluded). Returns the structure to switch to, if any. `pair_cost` measures what a
+    /// pair certificate costs (see [`pair_cost`]), called once, when the brute force is
+    /// weighed.
+    pub(crate) fn slice_done(
+        &mut self,
+        from: f64,
+        to: f64,
+        wall: f64,
+        pair_cost: &mut dyn FnMut() -> f64,
+    ) -> Option<Structure> {
         self.slices.push(Slice {
             structure: self.current,
             from,
@@ -174,14 +241,12 @@ impl Race {
                     return None;
                 }
                 self.pace = self.measured_wall / span;
-                // The trials may cost a share of what the rest of the run will take.
-                self.budget = SHARE * self.pace * self.horizon;
                 // A trial slice is as long as the leader took LEAST_WALL to run, or longer
                 // when the budget allows: four times as long as measured, a share of each
                 // trial's budget.
-                let per_trial = self.budget / self.to_try.len() as f64;
+                let per_trial = self.budget() / self.to_try.len() as f64;
                 self.slice = (span).max((per_trial / (ABORT * self.pace)).min(4.0 * span));
-                self.next_trial()
+                self.next_trial(pair_cost)
             }
             Phase::Trial => {
                 let pace = self.measured_wall / span;
@@ -197,9 +262,9 @@ impl Race {
                 if pace < self.pace * (1.0 - MARGIN) {
                     self.leader = trial;
                     self.pace = pace;
-                    self.next_trial()
+                    self.next_trial(pair_cost)
                 } else {
-                    match self.next_trial() {
+                    match self.next_trial(pair_cost) {
                         Some(next) => Some(next),
                         None => {
                             // Back to the leader: a rebuild.
@@ -213,31 +278,63 @@ impl Race {
                 // A check: the leader's pace since the last one, then a trial of the
                 // runner-up if the budget allows.
                 self.pace = self.measured_wall / span;
-                self.budget = self.budget.max(SHARE * self.pace * self.horizon);
                 self.next_check =
                     (to + 3.0 * (to - self.measured_from).max(self.slice)).min(self.horizon);
                 self.paces.sort_by(|a, b| a.1.total_cmp(&b.1));
+                self.to_try = std::mem::take(&mut self.untried);
                 if let Some(&(runner_up, _)) = self.paces.iter().find(|p| p.0 != self.leader) {
-                    self.to_try = vec![runner_up];
+                    self.to_try.push(runner_up);
                 }
-                self.next_trial()
+                self.next_trial(pair_cost)
             }
         }
     }
 
     /// The next structure to try, when the budget allows; otherwise settles on the leader.
-    fn next_trial(&mut self) -> Option<Structure> {
+    fn next_trial(&mut self, pair_cost: &mut dyn FnMut() -> f64) -> Option<Structure> {
         self.measured_wall = 0.0;
         let now = self.slices.last().map_or(0.0, |s| s.to);
         self.measured_from = now;
         // A trial costs at most its build, the rebuild of the leader and ABORT - 1 times the
         // leader's time on its slice; builds are guessed from the one slice's cost.
-        let worst = (ABORT - 1.0) * self.pace * self.slice + 2.0 * self.last_build();
-        if !self.to_try.is_empty() && self.spent + worst <= self.budget {
+        let run = (ABORT - 1.0) * self.pace * self.slice;
+        while !self.to_try.is_empty() {
             let next = self.to_try.remove(0);
-            self.phase = Phase::Trial;
-            self.current = next;
-            return Some(next);
+            // Where objects pass through each other the brute force processes only the
+            // contacts, which every structure processes too: it costs its build and the
+            // contacts' share of the leader's work (measured: the share of pair events among
+            // the run's events). When that is under the rest of the run at the leader's pace,
+            // less the margin, it pays back its build, and is tried outside the budget. The
+            // estimate counts twice: the probe's pairs stay in cache and a whole build's do
+            // not (a build of 680,000 pairs took twice the probe's estimate).
+            let rest = self.pace * (self.horizon - now);
+            if next == Structure::BruteForce && self.brute_force_build.is_none() {
+                let n = self.objects;
+                self.brute_force_build = Some(pair_cost() * n * (n - 1.0) / 2.0);
+            }
+            let brute_force_build = self.brute_force_build.unwrap_or(0.0);
+            if next == Structure::BruteForce
+                && self.passing
+                && 2.0 * brute_force_build < (1.0 - MARGIN - self.contact_share) * rest
+            {
+                self.phase = Phase::Trial;
+                self.current = next;
+                return Some(next);
+            }
+            // Box structures' builds differ by up to about six times (4,042 balls of sizes
+            // 1:1150: the grid 13 ms, the loose grid 88 ms): guessed at three times the
+            // largest measured, twice over (its build, and the leader's again if it loses).
+            let build = if next == Structure::BruteForce {
+                brute_force_build.max(self.last_build())
+            } else {
+                3.0 * self.last_build()
+            };
+            if self.spent + run + 2.0 * build <= self.budget() {
+                self.phase = Phase::Trial;
+                self.current = next;
+                return Some(next);
+            }
+            self.untried.push(next);
         }
         self.to_try.clear();
         self.phase = Phase::Settled;
@@ -247,12 +344,25 @@ impl Race {
         None
     }
 
-    /// The longest build measured so far (0 before any).
+    /// What the trials may cost: a share of the run's time at the leader's pace.
+    fn budget(&self) -> f64 {
+        SHARE * self.pace * self.horizon
+    }
+
+    /// The longest build of a box structure measured so far (0 before any): what the next
+    /// box structure's build is guessed to cost. The brute force's build, n^2 / 2 pairs,
+    /// says nothing of theirs.
     fn last_build(&self) -> f64 {
         self.slices
             .iter()
+            .filter(|s| s.structure != Structure::BruteForce)
             .map(|s| s.build_seconds)
             .fold(0.0, f64::max)
+    }
+
+    /// The share of pair events (contacts) among the run's events so far.
+    pub(crate) fn contact_share(&mut self, share: f64) {
+        self.contact_share = share.clamp(0.0, 1.0);
     }
 
     /// The switch the race asked for took `build` wall seconds.

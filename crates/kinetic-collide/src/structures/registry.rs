@@ -117,9 +117,7 @@ impl Structure {
         let elastic = scene.response == Response::Elastic;
         let n = scene.objects.len();
         let crossings = scene_measures::crossings(scene);
-        let resting = cost::barely_moving(n, crossings);
-        let plane = scene.world == WorldKind::Plane;
-        let boxes = cost::for_flights(scene.size_ratio(), n, resting, plane);
+        let boxes = Structure::boxes_for(scene);
         let cells = match boxes {
             Structure::Grid => crossings * cost::grid_crossing_share(scene_measures::radii(scene)),
             Structure::Sweep => cost::sweep_crossings(scene_measures::passes(scene)),
@@ -131,6 +129,16 @@ impl Structure {
             return Structure::BruteForce;
         }
         boxes
+    }
+
+    /// The box structure the cost model picks for `scene` (the loose grid, the grid or the
+    /// sweep, by the spread of sizes and whether the objects barely move): where a raced run
+    /// starts when the brute force would cost too much to build just to be measured.
+    pub(crate) fn boxes_for(scene: &Scene) -> Structure {
+        let n = scene.objects.len();
+        let resting = cost::barely_moving(n, scene_measures::crossings(scene));
+        let plane = scene.world == WorldKind::Plane;
+        cost::for_flights(scene.size_ratio(), n, resting, plane)
     }
 
     /// A fresh, empty candidate structure of this kind for a world of `kind` whose objects
