@@ -327,7 +327,11 @@ fn main() {
             "--collisions" => collisions = value().parse().expect("--collisions: a number"),
             "--repeat" => repeat = value().parse::<usize>().expect("--repeat: a count").max(1),
             "--out" => out = PathBuf::from(value()),
-            "--tool" => tool = Some(PathBuf::from(value())),
+            "--tool" => {
+                let path = PathBuf::from(value());
+                // The runs start in a folder of their own.
+                tool = Some(std::fs::canonicalize(&path).unwrap_or(path));
+            }
             "--systems" => {
                 systems = value()
                     .split(',')
