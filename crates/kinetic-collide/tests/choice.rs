@@ -18,9 +18,15 @@ fn the_default_applies_takes_every_branch_and_matches_the_brute_force() {
         picked.insert(pick.name());
         let reference = run_scene(scene, Some(Structure::BruteForce)).unwrap();
         let got = run_scene(scene, None).unwrap();
-        // The run starts on the pick (and may race on from there).
+        // The run starts on the pick (and may race on from there), or, where the pick is the
+        // brute force and its build was measured to cost more than a box structure's, on that
+        // box structure.
         let first = got.race.first().map_or(got.structure, |leg| leg.structure);
-        assert_eq!(first, pick, "{}", case.kind);
+        assert!(
+            first == pick || pick == Structure::BruteForce,
+            "{}: started on {first:?}, picked {pick:?}",
+            case.kind
+        );
         assert_same_contacts(&reference.events, &got.events, case.kind);
     }
     // The family exercises every branch of the rule.

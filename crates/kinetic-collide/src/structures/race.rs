@@ -376,3 +376,97 @@ impl Race {
         self.slices
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::SceneObject;
+    use glam::DVec3;
+    use kinetic_core::Response;
+
+    /// `n` balls in a row, for a horizon of 100.
+    fn scene(n: usize) -> Scene {
+        let ball =
+            |i: usize| SceneObject::ball(0.5, DVec3::new(2.0 * i as f64, 0.0, 0.0), DVec3::X);
+        Scene {
+            world: WorldKind::Free,
+            horizon: 100.0,
+            response: Response::None,
+            walls: None,
+            periodic: None,
+            objects: (0..n).map(ball).collect(),
+        }
+    }
+
+    /// Runs a race in which each structure costs `pace` wall seconds per unit of simulated
+    /// time and each build `build` seconds; returns its slices.
+    fn run(race: &mut Race, pace: impl Fn(Structure) -> f64, build: f64) -> Vec<Slice> {
+        let mut now = 0.0;
+        while now < 100.0 {
+            let to = race.slice_end(now);
+            assert!(to > now, "the race stalls at {now}");
+            let wall = pace(race.current()) * (to - now);
+            if race.slice_done(now, to, wall, &mut || 1e-7).is_some() {
+                race.switched(build);
+            }
+            now = to;
+        }
+        std::mem::replace(race, Race::new(&scene(2), Structure::Grid, 0.0)).into_slices()
+    }
+
+    fn paces(s: Structure) -> f64 {
+        match s {
+            Structure::Grid => 0.01,
+            Structure::Sweep => 0.05,
+            Structure::LooseGrid => 0.2,
+            _ => 1.0,
+        }
+    }
+
+    #[test]
+    fn the_race_ends_on_the_fastest_within_its_share() {
+        let mut race = Race::new(&scene(2000), Structure::Sweep, 0.001);
+        let slices = run(&mut race, paces, 0.001);
+        assert_eq!(slices.last().unwrap().structure, Structure::Grid);
+        // The slices cover the run, in order.
+        assert_eq!(slices[0].from, 0.0);
+        assert_eq!(slices.last().unwrap().to, 100.0);
+        assert!(slices.windows(2).all(|w| w[0].to == w[1].from));
+        // What the run cost beyond the grid's own run: the sweep measured, the trials and
+        // their builds, within the share of the grid's run and the measurement before it.
+        let total: f64 = slices.iter().map(|s| s.wall_seconds).sum();
+        let grid_alone = paces(Structure::Grid) * 100.0;
+        assert!(
+            total < grid_alone * (1.0 + SHARE) + 4.0 * LEAST_WALL,
+            "{total} {slices:?}"
+        );
+    }
+
+    #[test]
+    fn a_slow_trial_is_cut_short_and_the_leader_kept() {
+        // The grid leads from the start; every other structure is slower.
+        let mut race = Race::new(&scene(2000), Structure::Grid, 0.001);
+        let slices = run(&mut race, paces, 0.0);
+        assert_eq!(slices.last().unwrap().structure, Structure::Grid);
+        // What the trials cost beyond the grid's pace on their slices.
+        let grid = paces(Structure::Grid);
+        let trials: f64 = slices
+            .iter()
+            .filter(|s| s.structure != Structure::Grid)
+            .map(|s| s.wall_seconds - grid * (s.to - s.from))
+            .sum();
+        assert!(trials > 0.0, "nothing was tried: {slices:?}");
+        assert!(trials < SHARE * grid * 100.0, "{trials} {slices:?}");
+    }
+
+    #[test]
+    fn one_structure_makes_no_race() {
+        let mut periodic = scene(10);
+        periodic.periodic = Some(kinetic_spheres::PeriodicBox {
+            min: DVec3::ZERO,
+            max: DVec3::splat(100.0),
+        });
+        let race = Race::new(&periodic, Structure::Periodic, 0.0);
+        assert_eq!(race.slice_end(0.0), 100.0);
+    }
+}
