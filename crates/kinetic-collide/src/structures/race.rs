@@ -15,7 +15,7 @@
 use super::Structure;
 use crate::World;
 use crate::scene::Scene;
-use kinetic_core::{FlightPlan, Shape, WorldKind};
+use kinetic_core::{FlightPlan, Response, Shape};
 use std::time::Instant;
 
 /// The share of the run's projected wall time the trials may cost (builds, rebuilds and
@@ -153,7 +153,7 @@ impl Race {
             Structure::BruteForce,
         ];
         let n = scene.objects.len() as f64;
-        let passing = scene.response == kinetic_core::Response::None;
+        let passing = scene.response == Response::None;
         let to_try = if pick.runs_in_a_world() && scene.periodic.is_none() {
             shortlist
                 .into_iter()
@@ -161,7 +161,6 @@ impl Race {
                 .filter(|&s| {
                     s != Structure::BruteForce || scene.objects.len() <= BRUTE_FORCE_TRIAL_MAX
                 })
-                .filter(|&s| scene.world == WorldKind::Free || s != Structure::Guards)
                 .collect()
         } else {
             Vec::new()
@@ -382,7 +381,7 @@ mod tests {
     use super::*;
     use crate::scene::SceneObject;
     use glam::DVec3;
-    use kinetic_core::Response;
+    use kinetic_core::WorldKind;
 
     /// `n` balls in a row, for a horizon of 100.
     fn scene(n: usize) -> Scene {
