@@ -7,7 +7,8 @@
 //!
 //! For each system (`gas:N` or `mix:RATIO:N`, default: the gas at 4000, 32000 and 256000, the
 //! mixtures 0.5, 0.2 and 0.1 at 32000) it generates the scene (`kinetic-collide generate`'s
-//! generator, seed 1), runs it on the chosen structure in a fresh process (the tool's `run`
+//! generator, seed 1), runs it on the structure the tool picks (the neighbour lists for the
+//! gas, the cell grid for the mixtures) in a fresh process (the tool's `run`
 //! minus file output: the event log is formatted as it goes and dropped), and reports
 //! collisions per second, the process's peak memory per sphere, and the wall time for `C`
 //! collisions (default 1e6). Each side runs K times (default 3), interleaved, and the row
@@ -23,7 +24,7 @@
 use kinetic_collide::Structure;
 use kinetic_collide::run::push_event_line;
 use kinetic_collide::scene::outer_radius;
-use kinetic_collide::spheres::ElasticCells;
+use kinetic_collide::spheres::{ElasticCells, ListedSpheres};
 use kinetic_collide::{ContactKind, Walls};
 use kinetic_collide_cli::process::{peak_kb, run_child};
 use kinetic_scenes::hard_spheres::HardSpheres;
@@ -87,14 +88,21 @@ impl Measured {
     }
 }
 
+/// The hard-sphere simulator a system runs on.
+enum Sim {
+    Cells(ElasticCells),
+    Lists(ListedSpheres),
+}
+
 /// The child: runs one system and prints `collisions seconds peak_kb`.
 fn child(system: System, collisions: f64) -> Result<(), String> {
     let scene = system
         .spheres(collisions)
         .build()
         .map_err(|e| e.to_string())?;
-    if Structure::for_scene(&scene) != Structure::Cells {
-        return Err(format!("{}: not run on the cell grid", system.name()));
+    let structure = Structure::for_scene(&scene);
+    if !matches!(structure, Structure::Cells | Structure::Lists) {
+        return Err(format!("{}: not a hard-sphere system", system.name()));
     }
     let balls: Vec<_> = scene
         .objects
@@ -103,17 +111,24 @@ fn child(system: System, collisions: f64) -> Result<(), String> {
         .collect();
     let walls: Walls = scene.walls.ok_or("no walls")?;
     let start = Instant::now();
-    let mut cells = ElasticCells::new(walls, &balls).map_err(|e| e.to_string())?;
+    let mut sim = if structure == Structure::Cells {
+        Sim::Cells(ElasticCells::new(walls, &balls).map_err(|e| e.to_string())?)
+    } else {
+        Sim::Lists(ListedSpheres::in_walls(walls, &balls).map_err(|e| e.to_string())?)
+    };
     let mut log = String::new();
     let mut sink = std::io::sink();
     let chunks = 100;
     let mut begun = 0u64;
     for k in 1..=chunks {
-        cells
-            .advance_to(scene.horizon * k as f64 / chunks as f64)
-            .map_err(|e| e.to_string())?;
+        let to = scene.horizon * k as f64 / chunks as f64;
+        let events = match &mut sim {
+            Sim::Cells(cells) => cells.advance_to(to).map(|()| cells.drain_events()),
+            Sim::Lists(lists) => lists.advance_to(to).map(|()| lists.drain_events()),
+        }
+        .map_err(|e| e.to_string())?;
         log.clear();
-        for e in cells.drain_events() {
+        for e in events {
             begun += u64::from(e.kind == ContactKind::Begin);
             push_event_line(&mut log, &e);
         }

@@ -2,7 +2,7 @@
 //!
 //! ```text
 //! cargo bench --bench edmd -- [--edmd DIR] [--systems N:PACKING,...] [--collisions C]
-//!                              [--repeat K] [--out FILE] [--tool PATH]
+//!                              [--repeat K] [--out FILE] [--tool PATH [--walls]]
 //! ```
 //!
 //! For each system (default `32000:0.26,32000:0.45`) it runs EDMD (Smallenburg's
@@ -19,16 +19,19 @@
 //!   bench says so and runs ours alone for `C` collisions.
 //! - Ours: the same `N`, packing and number of collisions as EDMD's run: `kinetic-collide
 //!   generate --periodic`'s system (a lattice start above packing 0.3, random below),
-//!   simulated on [`PeriodicSpheres`] in a fresh process with no event log written; with
+//!   simulated on [`ListedSpheres`] in a fresh process with no event log written; with
 //!   `--tool PATH` (the built `kinetic-collide`), the tool itself: `generate --periodic`
 //!   writes the system (not timed), and `run --events none --stats` is the process timed.
+//! - `--walls` (with `--tool`): the same spheres inside walls too (`generate` without
+//!   `--periodic`, the same number of collisions), interleaved with the periodic runs, and
+//!   the ratio of their collision rates (the walls' median over the periodic box's).
 //!
 //! Both are timed as whole processes (start, simulation, exit) and their peak resident memory
 //! is the process's (GNU time's maximum resident set). The table goes to standard output and
 //! the CSV to `--out` (default `docs/results/edmd.csv`).
 
 use kinetic_collide::scene::outer_radius;
-use kinetic_collide::spheres::PeriodicSpheres;
+use kinetic_collide::spheres::ListedSpheres;
 use kinetic_collide_cli::process::{peak_kb, run_child, timed};
 use kinetic_scenes::hard_spheres::HardSpheres;
 use std::fmt::Write as _;
@@ -105,7 +108,7 @@ fn child(system: System, collisions: f64) -> Result<(), String> {
         .map(|o| (outer_radius(&o.shape), o.plan()))
         .collect();
     drop(scene);
-    let mut gas = PeriodicSpheres::new(cell, &spheres).map_err(|e| e.to_string())?;
+    let mut gas = ListedSpheres::periodic(cell, &spheres).map_err(|e| e.to_string())?;
     drop(spheres);
     // Enskog's rate sets the pace; the run goes on until the count is reached.
     let per_unit = system.spheres(collisions).collision_rate();
@@ -151,16 +154,23 @@ fn ours(system: System, collisions: f64) -> Result<Measured, String> {
 }
 
 /// EDMD built for one system in a scratch folder.
-/// Ours from the command-line tool: `generate --periodic` writes the system (not timed),
-/// then `run --events none --stats` is the timed process; the collisions and `Z` are read
-/// from its statistics.
-fn ours_tool(tool: &Path, system: System, collisions: f64) -> Result<Measured, String> {
+/// Ours from the command-line tool: `generate --periodic` (or, not `periodic`, `generate`:
+/// inside walls) writes the system (not timed), then `run --events none --stats` is the
+/// timed process; the collisions and `Z` are read from its statistics.
+fn ours_tool(
+    tool: &Path,
+    system: System,
+    collisions: f64,
+    periodic: bool,
+) -> Result<Measured, String> {
     let work = std::env::temp_dir().join(format!("kinetic-collide-tool-{}", std::process::id()));
     std::fs::create_dir_all(&work).map_err(|e| e.to_string())?;
-    let scene = work.join(format!("{}.json", system.name()));
+    let scene = work.join(format!("{}-{periodic}.json", system.name()));
     let stats = work.join("stats.json");
     let generated = std::process::Command::new(tool)
-        .args(["generate", "--periodic", "--n", &system.n.to_string()])
+        .arg("generate")
+        .args(periodic.then_some("--periodic"))
+        .args(["--n", &system.n.to_string()])
         .args(["--packing", &system.packing.to_string()])
         .args(["--collisions", &collisions.to_string(), "-o"])
         .arg(&scene)
@@ -309,6 +319,7 @@ fn main() {
     let mut repeat = 3usize;
     let mut out = PathBuf::from("docs/results/edmd.csv");
     let mut tool: Option<PathBuf> = None;
+    let mut walls = false;
     let mut systems = vec![
         System {
             n: 32000,
@@ -338,6 +349,7 @@ fn main() {
                     .map(|s| System::parse(s).unwrap_or_else(|e| panic!("--systems: {e}")))
                     .collect()
             }
+            "--walls" => walls = true,
             "--bench" => {}
             other => panic!("unknown argument {other}"),
         }
@@ -358,6 +370,13 @@ fn main() {
             None
         }
     };
+    if walls && tool.is_none() {
+        panic!("--walls: runs the tool, named with --tool PATH");
+    }
+    let mut walls_table = String::from(
+        "| spheres | packing | periodic collisions/s | in walls collisions/s | walls / periodic |\n\
+         |---|---|---|---|---|\n",
+    );
     let mut csv = String::from(
         "n,packing,collisions,ours_seconds,ours_rate,ours_peak_mb,ours_z,\
          edmd_seconds,edmd_rate,edmd_peak_mb,edmd_z,rate_ratio,memory_ratio,carnahan_starling_z\n",
@@ -383,7 +402,7 @@ fn main() {
         } else {
             None
         };
-        let (mut ours_runs, mut edmd_runs) = (Vec::new(), Vec::new());
+        let (mut ours_runs, mut edmd_runs, mut walls_runs) = (Vec::new(), Vec::new(), Vec::new());
         for r in 1..=repeat {
             let mut target = collisions;
             if let Some(e) = &edmd {
@@ -398,12 +417,19 @@ fn main() {
             }
             eprintln!("{name}: kinetic-collide, run {r} of {repeat} ...");
             let measured = match &tool {
-                Some(tool) => ours_tool(tool, system, target),
+                Some(tool) => ours_tool(tool, system, target, true),
                 None => ours(system, target),
             };
             match measured {
                 Ok(m) => ours_runs.push(m),
                 Err(e) => eprintln!("{name}: kinetic-collide: {e}"),
+            }
+            if let Some(tool) = tool.as_ref().filter(|_| walls) {
+                eprintln!("{name}: kinetic-collide in walls, run {r} of {repeat} ...");
+                match ours_tool(tool, system, target, false) {
+                    Ok(m) => walls_runs.push(m),
+                    Err(e) => eprintln!("{name}: kinetic-collide in walls: {e}"),
+                }
             }
         }
         let eta = system.packing;
@@ -411,6 +437,17 @@ fn main() {
         let Some(k) = median(ours_runs) else {
             continue;
         };
+        if let Some(w) = median(walls_runs) {
+            let _ = writeln!(
+                walls_table,
+                "| {} | {} | {:.0} | {:.0} | {:.2}x |",
+                system.n,
+                system.packing,
+                k.rate(),
+                w.rate(),
+                w.rate() / k.rate()
+            );
+        }
         let d = median(edmd_runs);
         let mb = |kb: f64| kb / 1024.0;
         let _ = write!(
@@ -463,6 +500,9 @@ fn main() {
         }
     }
     print!("{table}");
+    if walls {
+        print!("\n{walls_table}");
+    }
     if let Err(e) = std::fs::write(&out, &csv) {
         eprintln!("{}: {e}", out.display());
     } else {

@@ -40,7 +40,7 @@ const ERROR_FLOOR: f64 = 1e-10;
 
 /// Every method the chart may show, each with a colour and a marker of its own (the
 /// kinetic structures first, then the time-stepped methods).
-const METHODS: [(&str, RGBColor, Marker); 13] = [
+const METHODS: [(&str, RGBColor, Marker); 14] = [
     ("rolling-tree", RGBColor(148, 103, 189), Marker::Circle),
     (
         "rolling-global-lists",
@@ -52,6 +52,7 @@ const METHODS: [(&str, RGBColor, Marker); 13] = [
     ("grid", RGBColor(227, 119, 194), Marker::Square),
     ("loose-grid", RGBColor(0, 90, 50), Marker::Circle),
     ("cells", RGBColor(120, 60, 160), Marker::Triangle),
+    ("lists", RGBColor(160, 120, 40), Marker::Circle),
     ("periodic", RGBColor(60, 60, 160), Marker::Diamond),
     ("brute-force", RGBColor(90, 90, 90), Marker::Cross),
     ("stepped", RGBColor(31, 119, 180), Marker::Circle),

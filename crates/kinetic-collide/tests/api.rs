@@ -122,7 +122,7 @@ fn every_structure_by_name_builds_a_world_or_says_why_not() {
         for kind in [WorldKind::Free, WorldKind::Plane] {
             let built = World::with_structure(kind, kinetic_collide::Response::None, None, s);
             let applies = match s {
-                Structure::Cells | Structure::Periodic => false,
+                Structure::Cells | Structure::Lists | Structure::Periodic => false,
                 Structure::RollingTree | Structure::RollingGlobalLists => kind == WorldKind::Plane,
                 Structure::Guards => kind == WorldKind::Free,
                 _ => true,

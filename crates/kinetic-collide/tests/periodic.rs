@@ -3,7 +3,7 @@
 //! dilute gases to dense fluids melted from a lattice.
 
 use kinetic_collide::FlightPlan;
-use kinetic_collide::spheres::{PeriodicBox, PeriodicSpheres};
+use kinetic_collide::spheres::{PeriodicBox, ListedSpheres};
 use kinetic_scenes::hard_spheres::HardSpheres;
 use std::f64::consts::PI;
 
@@ -23,7 +23,7 @@ fn measure(n: usize, packing: f64, warm: f64, measure: f64) -> (f64, f64, f64) {
         .iter()
         .map(|o| (kinetic_collide::scene::outer_radius(&o.shape), o.plan()))
         .collect();
-    let mut gas = PeriodicSpheres::new(
+    let mut gas = ListedSpheres::periodic(
         PeriodicBox {
             min: cell.min,
             max: cell.max,

@@ -8,7 +8,7 @@
 //! Enskog's rate.
 
 use kinetic_core::{FlightPlan, Vec3};
-use kinetic_spheres::{PeriodicBox, PeriodicSpheres};
+use kinetic_spheres::{PeriodicBox, ListedSpheres};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
@@ -85,7 +85,7 @@ fn main() {
     let rate = 4.0 * (6.0 * eta / PI) * g * PI.sqrt() * n as f64 / 2.0;
     let horizon = collisions / rate;
     let start = Instant::now();
-    let mut gas = match PeriodicSpheres::new(cell, &spheres) {
+    let mut gas = match ListedSpheres::periodic(cell, &spheres) {
         Ok(gas) => gas,
         Err(e) => {
             eprintln!("periodic_gas: {e}");

@@ -5,14 +5,14 @@
 //!
 //! - [`ElasticCells`]: elastic balls inside walls on a hierarchical grid of cells, one
 //!   scheduled event per ball (the hard-sphere systems of event-driven molecular dynamics,
-//!   gases and mixtures).
-//! - [`PeriodicSpheres`]: elastic spheres in a periodic box ([`PeriodicBox`]), with neighbour
-//!   lists, one event per sphere and a calendar queue; [`Bulk`] gives the collision rate,
-//!   temperature and pressure of the fluid.
+//!   gases and mixtures of sizes spread widely).
+//! - [`ListedSpheres`]: elastic spheres of similar sizes in a periodic box ([`PeriodicBox`])
+//!   or inside walls, with neighbour lists, one event per sphere and a calendar queue;
+//!   [`Bulk`] gives the collision rate, temperature and pressure of the fluid.
 //!
 //! ```
 //! use kinetic_core::{FlightPlan, Vec3};
-//! use kinetic_spheres::{PeriodicBox, PeriodicSpheres};
+//! use kinetic_spheres::{PeriodicBox, ListedSpheres};
 //!
 //! let cell = PeriodicBox { min: Vec3::ZERO, max: Vec3::splat(10.0) };
 //! // Two spheres of radius 0.5 flying at each other along x, 2 apart at t = 0.
@@ -20,7 +20,7 @@
 //!     (0.5, FlightPlan::linear(Vec3::new(4.0, 5.0, 5.0), Vec3::X)),
 //!     (0.5, FlightPlan::linear(Vec3::new(6.0, 5.0, 5.0), -Vec3::X)),
 //! ];
-//! let mut gas = PeriodicSpheres::new(cell, &spheres).unwrap();
+//! let mut gas = ListedSpheres::periodic(cell, &spheres).unwrap();
 //! gas.advance_to(1.0).unwrap();
 //! let events = gas.drain_events();
 //! assert_eq!(events.len(), 1);
@@ -28,13 +28,13 @@
 //! ```
 //!
 //! This crate holds the project's `unsafe` code besides the core's prefetch hint: the
-//! periodic structure's SIMD lanes (`periodic/first_pass.rs`, `periodic/grid.rs`), each block with
+//! periodic structure's SIMD lanes (`listed/first_pass.rs`, `listed/grid.rs`), each block with
 //! its safety argument, each lane tested against a scalar pass.
 #![warn(missing_docs)]
 #![deny(unsafe_code)]
 
 mod cells;
-mod periodic;
+mod listed;
 
 pub use cells::ElasticCells;
-pub use periodic::{Bulk, PeriodicBox, PeriodicSpheres};
+pub use listed::{Bulk, ListedSpheres, PeriodicBox};

@@ -10,9 +10,9 @@ use crate::structures::{BRUTE_FORCE_START_MAX, FLIGHT_PARTS, PROBE_OBJECTS, Race
 use crate::{Structure, World};
 use kinetic_core::{ContactEvent, ContactKind, Shape, Stats, WorldError};
 use kinetic_flight::ConvexShape;
-use kinetic_spheres::{ElasticCells, PeriodicSpheres};
+use kinetic_spheres::{ElasticCells, ListedSpheres};
 pub use spheres::{BLOCKS, MeasuredBulk};
-use spheres::{run_cells, run_periodic};
+use spheres::{run_cells, run_listed, run_periodic};
 use std::cell::RefCell;
 use std::fmt::Write as _;
 use std::ops::ControlFlow;
@@ -157,7 +157,7 @@ macro_rules! scene_simulation {
     )*};
 }
 
-scene_simulation!(ElasticCells, PeriodicSpheres);
+scene_simulation!(ElasticCells, ListedSpheres);
 
 /// How a drive to a time ended.
 enum Reached {
@@ -370,9 +370,13 @@ pub fn run_scene_streamed(
         }
         return run_periodic(scene, start, stream, 0.0);
     }
-    if chosen == Structure::Cells {
+    if matches!(chosen, Structure::Cells | Structure::Lists) {
         if times.is_empty() {
-            return run_cells(scene, start, stream);
+            return if chosen == Structure::Cells {
+                run_cells(scene, start, stream)
+            } else {
+                run_listed(scene, start, stream)
+            };
         }
         if structure.is_none() {
             // Frames are drawn from a world: the grid gives the same events.

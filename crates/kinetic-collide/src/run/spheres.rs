@@ -1,13 +1,13 @@
-//! The hard-sphere simulators as whole-scene runs: elastic balls in walls on the cell grid,
-//! and a periodic box, whose bulk figures are measured over a window of the run that leaves
+//! The hard-sphere simulators as whole-scene runs: elastic balls in walls on the cell grid
+//! or in neighbour lists, and a periodic box, whose bulk figures are measured over a window of the run that leaves
 //! out its start (melting from a lattice, say), in blocks that give their uncertainty.
 
 use super::{Reached, RunError, RunOutput, Stream, drive};
 use crate::Structure;
 use crate::scene::Scene;
-use crate::structures::{cell_balls, periodic_balls};
+use crate::structures::{cell_balls, listed_balls, periodic_balls};
 use kinetic_core::WorldError;
-use kinetic_spheres::{Bulk, ElasticCells, PeriodicSpheres};
+use kinetic_spheres::{Bulk, ElasticCells, ListedSpheres};
 use std::time::Instant;
 
 /// The bulk figures' blocks: the window is cut into this many of equal length, and the
@@ -58,6 +58,38 @@ pub(super) fn run_cells(
     output.finish(result, cells.now())
 }
 
+/// Runs a scene of elastic balls of similar sizes in walls on neighbour lists, with the bulk
+/// figures of the whole run (the pressure is that on the walls).
+pub(super) fn run_listed(
+    scene: &Scene,
+    start: Instant,
+    stream: &mut Stream<'_>,
+) -> Result<RunOutput, RunError> {
+    let (walls, balls) = listed_balls(scene).ok_or_else(|| {
+        RunError::Input(
+            "--structure lists: applies to elastic balls moving linearly inside walls in a \
+             \"free\" world, the largest at most twice the smallest"
+                .to_string(),
+        )
+    })?;
+    let mut gas = ListedSpheres::in_walls(walls, &balls)
+        .map_err(|e| RunError::Input(format!("objects: {e}")))?;
+    let (result, measured) = measure(&mut gas, scene.horizon, 0.0, stream);
+    let output = RunOutput {
+        structure: Structure::Lists,
+        race: Vec::new(),
+        objects: scene.objects.len(),
+        horizon: scene.horizon,
+        events: Vec::new(),
+        interrupted: None,
+        stats: gas.stats(),
+        structure_stats: gas.counters(),
+        bulk: measured,
+        wall_seconds: start.elapsed().as_secs_f64(),
+    };
+    output.finish(result, gas.now())
+}
+
 /// Runs a scene in a periodic box, measuring its bulk figures from `measure_from` (0: the
 /// whole run) to the horizon.
 pub(super) fn run_periodic(
@@ -79,7 +111,7 @@ pub(super) fn run_periodic(
         )));
     }
     let mut gas =
-        PeriodicSpheres::new(cell, &balls).map_err(|e| RunError::Input(format!("objects: {e}")))?;
+        ListedSpheres::periodic(cell, &balls).map_err(|e| RunError::Input(format!("objects: {e}")))?;
     let (result, measured) = measure(&mut gas, scene.horizon, measure_from, stream);
     let output = RunOutput {
         structure: Structure::Periodic,
@@ -99,7 +131,7 @@ pub(super) fn run_periodic(
 /// Drives `gas` to `horizon`, its bulk figures taken afresh at `from` and over each of
 /// [`BLOCKS`] equal blocks from there; `None` for the figures when the run stopped first.
 fn measure(
-    gas: &mut PeriodicSpheres,
+    gas: &mut ListedSpheres,
     horizon: f64,
     from: f64,
     stream: &mut Stream<'_>,

@@ -17,4 +17,4 @@ pub use race::Slice;
 pub(crate) use race::{BRUTE_FORCE_START_MAX, PROBE_OBJECTS, Race, pair_cost};
 pub(crate) use registry::FLIGHT_PARTS;
 pub use registry::Structure;
-pub(crate) use scene_world::{cell_balls, periodic_balls};
+pub(crate) use scene_world::{cell_balls, listed_balls, periodic_balls};

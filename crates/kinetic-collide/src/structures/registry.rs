@@ -25,6 +25,9 @@ pub enum Structure {
     /// Elastic balls in walls on a hierarchical grid of cells, one scheduled event per ball
     /// (the hard-sphere systems of molecular dynamics; `kinetic_collide::spheres`).
     Cells,
+    /// Elastic balls of similar sizes (the largest at most twice the smallest) in walls, with
+    /// the periodic structure's neighbour lists and one scheduled event per ball.
+    Lists,
     /// Elastic balls in a periodic box, with neighbour lists and one scheduled event per ball
     /// (bulk hard-sphere fluids); the only structure for periodic scenes.
     Periodic,
@@ -39,7 +42,7 @@ pub(crate) const FLIGHT_PARTS: f64 = 1000.0;
 
 impl Structure {
     /// Every structure.
-    pub const ALL: [Structure; 9] = [
+    pub const ALL: [Structure; 10] = [
         Structure::RollingTree,
         Structure::RollingGlobalLists,
         Structure::Sweep,
@@ -47,6 +50,7 @@ impl Structure {
         Structure::Grid,
         Structure::LooseGrid,
         Structure::Cells,
+        Structure::Lists,
         Structure::Periodic,
         Structure::BruteForce,
     ];
@@ -62,6 +66,7 @@ impl Structure {
             Structure::Grid => "grid",
             Structure::LooseGrid => "loose-grid",
             Structure::Cells => "cells",
+            Structure::Lists => "lists",
             Structure::Periodic => "periodic",
             Structure::BruteForce => "brute-force",
         }
@@ -87,20 +92,25 @@ impl Structure {
             }
             Structure::Guards => scene.world == WorldKind::Free,
             Structure::Cells => super::scene_world::cell_balls(scene).is_some(),
+            Structure::Lists => super::scene_world::listed_balls(scene).is_some(),
         }
     }
 
     /// Whether it runs inside a [`crate::World`] (every structure but the hard-sphere
     /// simulators, which run whole scenes).
     pub const fn runs_in_a_world(self) -> bool {
-        !matches!(self, Structure::Cells | Structure::Periodic)
+        !matches!(
+            self,
+            Structure::Cells | Structure::Lists | Structure::Periodic
+        )
     }
 
     /// The structure `scene` gets when none is named.
     ///
     /// A periodic box gets the periodic structure, the only one that wraps. Elastic balls
-    /// moving linearly inside walls get the cell grid, one scheduled event per ball, when it
-    /// fits their sizes. Otherwise the cost model shortlists: the brute force where its pairs
+    /// moving linearly inside walls get the neighbour lists when their sizes are within a
+    /// factor of two (the cell grid would hold them on one level), else the cell grid when it
+    /// fits their sizes: one scheduled event per ball either way. Otherwise the cost model shortlists: the brute force where its pairs
     /// cost less than a box structure's objects, crossings and contacts (a few dozen objects,
     /// or a few hundred flying far without bouncing), else the box structure that fits the
     /// spread of sizes and whether the objects barely move (the loose grid, the grid or the
@@ -110,6 +120,9 @@ impl Structure {
     pub fn for_scene(scene: &Scene) -> Structure {
         if scene.periodic.is_some() {
             return Structure::Periodic;
+        }
+        if super::scene_world::listed_balls(scene).is_some() {
+            return Structure::Lists;
         }
         if super::scene_world::cell_balls(scene).is_some() {
             return Structure::Cells;
@@ -167,7 +180,7 @@ impl Structure {
             Structure::Sweep => Ok(Box::new(Sweep::new())),
             Structure::Grid => Ok(Box::new(Grid::new().with_least_flight(least_flight))),
             Structure::LooseGrid => Ok(Box::new(LooseGrid::new().with_least_flight(least_flight))),
-            Structure::Cells | Structure::Periodic => Err(
+            Structure::Cells | Structure::Lists | Structure::Periodic => Err(
                 "runs whole scenes, not inside a world; frames are drawn from a world (use \
                  --structure grid)",
             ),

@@ -63,7 +63,66 @@ pub fn wall_hit(
     dims: usize,
     now: Real,
 ) -> Option<WallHit> {
+    if plan.acceleration == crate::math::Vec3::ZERO
+        && let Some(hit) = linear_wall_hit(plan, r, walls, dims, now)
+    {
+        return hit;
+    }
+    touching_wall_hit(plan, r, walls, dims, now)
+}
+
+/// [`wall_hit`] for a ball touching a wall (just bounced) or accelerating: each wall's gap
+/// polynomial, by the root walk where no closed form is clear.
+#[cold]
+#[inline(never)]
+fn touching_wall_hit(
+    plan: &crate::FlightPlan,
+    r: Real,
+    walls: &super::Walls,
+    dims: usize,
+    now: Real,
+) -> Option<WallHit> {
     earliest_wall(plan, r, walls, dims, now, wall_time)
+}
+
+/// [`wall_hit`] for a linear plan clear of every wall: the closed form of [`wall_time`] on
+/// each axis's wall ahead (the one behind is never hit), with its arithmetic, so the answer
+/// is the same bit for bit. `None` when the ball touches or crosses a wall, where the general
+/// path decides.
+#[inline]
+fn linear_wall_hit(
+    plan: &crate::FlightPlan,
+    r: Real,
+    walls: &super::Walls,
+    dims: usize,
+    now: Real,
+) -> Option<Option<WallHit>> {
+    let p = plan.position_at(now);
+    let v = plan.velocity_at(now);
+    let mut best: Option<WallHit> = None;
+    for axis in 0..dims {
+        let below = (p[axis] - walls.min[axis]) - r;
+        let above = (walls.max[axis] - p[axis]) - r;
+        if !(below > 0.0 && above > 0.0) {
+            return None;
+        }
+        // The gap's coefficients as `wall_gap` writes them: `c1` is `v` below, `-v` above.
+        let (upper, c0, c1) = if v[axis] < 0.0 {
+            (false, below, v[axis])
+        } else if v[axis] > 0.0 {
+            (true, above, -v[axis])
+        } else {
+            continue; // at rest along the axis (or NaN): neither wall
+        };
+        let tau = -c0 / c1;
+        if tau > 0.0 && tau.is_finite() {
+            let time = now + tau;
+            if best.is_none_or(|b| time < b.time) {
+                best = Some(WallHit { time, axis, upper });
+            }
+        }
+    }
+    Some(best)
 }
 
 /// The earliest wall contact, each wall's gap polynomial timed by `time_of`.

@@ -3,12 +3,12 @@
 //! bound. On x86-64 processors with AVX (found at run time) the pairs go four at a time in
 //! AVX lanes, each lane with the scalar pass's operations in order; elsewhere one at a time.
 
-use super::{Motion, PeriodicSpheres};
+use super::{Motion, ListedSpheres};
 #[cfg(target_arch = "x86_64")]
 use kinetic_core::prefetch;
 use kinetic_core::{Real, Vec3};
 
-impl PeriodicSpheres {
+impl ListedSpheres {
     /// The first pass over a batch of `m`'s neighbours, one pair at a time: writes to `out`
     /// every place's coefficients and the places of the pairs that
     /// [`pair_due`](super::predict::pair_due) would not turn away at once (apart, and
@@ -369,7 +369,7 @@ pub(super) struct Kept {
 #[cfg(all(test, target_arch = "x86_64"))]
 mod tests {
     use super::*;
-    use crate::periodic::PeriodicBox;
+    use crate::listed::PeriodicBox;
     use kinetic_core::FlightPlan;
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
@@ -377,7 +377,7 @@ mod tests {
     /// The four-lane pass over every sphere's list, with and without a bound: the same
     /// pairs kept as by the scalar pass, with the same coefficients and bases to the bit.
     /// Returns the pairs compared.
-    fn same_passes(gas: &PeriodicSpheres) -> usize {
+    fn same_passes(gas: &ListedSpheres) -> usize {
         let bits = |k: Kept| {
             (
                 k.k,
@@ -445,7 +445,7 @@ mod tests {
             let v = Vec3::new(rand(), rand(), rand()) * 4.0;
             spheres.push((0.4, FlightPlan::linear(p, v)));
         }
-        let mut gas = PeriodicSpheres::new(cell, &spheres).unwrap();
+        let mut gas = ListedSpheres::periodic(cell, &spheres).unwrap();
         let mut checked = same_passes(&gas);
         for _ in 0..20 {
             assert!(gas.step(Real::INFINITY).unwrap());

@@ -1,14 +1,14 @@
 //! Checking the structure against its invariants (for tests; quadratic in the spheres).
 
 use super::predict::pair_due;
-use super::{Kind, PeriodicSpheres};
+use super::{Kind, ListedSpheres};
 use kinetic_core::Real;
 
-impl PeriodicSpheres {
+impl ListedSpheres {
     /// Checks the invariants: lists are symmetric; every sphere is
     /// within its shell; every unlisted pair's centres are beyond the list reach (nearest
     /// image), so it cannot touch; every listed pair is covered (see
-    /// [`PeriodicSpheres::validate_cover`]); every scheduled event is not before now and is the
+    /// [`ListedSpheres::validate_cover`]); every scheduled event is not before now and is the
     /// one the queue holds; the queue is ordered.
     pub fn validate(&self) -> Result<(), String> {
         self.queue.validate()?;
@@ -36,12 +36,41 @@ impl PeriodicSpheres {
             {
                 return Err(format!("periodic: sphere {i}'s event is in the past"));
             }
+            if let Some(walls) = self.walls {
+                let at = m.at(self.now);
+                let slack = 1e-9 * (walls.max - walls.min).max_element();
+                if (at - m.radius + slack).cmplt(walls.min).any()
+                    || (at + m.radius - slack).cmpgt(walls.max).any()
+                {
+                    return Err(format!("walls: sphere {i} at {at:?} is through a wall"));
+                }
+                if self.wall[i as usize] != self.wall_kept(i) {
+                    return Err(format!("walls: sphere {i}'s wall certificate is not its plan's"));
+                }
+                // A sphere far from the walls reaches its shell first.
+                if self.wall[i as usize].is_none()
+                    && let Some(hit) = self.wall_of(i)
+                    && hit.time.max(self.now) < self.queue.get(i).map_or(Real::INFINITY, |e| e.0)
+                {
+                    return Err(format!(
+                        "walls: sphere {i} reaches a wall at {} before its event, unwatched",
+                        hit.time
+                    ));
+                }
+                let event = self.queue.get(i).map_or(Real::INFINITY, |e| e.0);
+                if let Some(hit) = self.wall[i as usize]
+                    && event > hit.time.max(self.now)
+                {
+                    return Err(format!(
+                        "walls: sphere {i} reaches a wall at {} before its event at {event}",
+                        hit.time
+                    ));
+                }
+            }
         }
         for i in 0..n {
             for k in i + 1..n {
-                let d = self.centre[i].at - self.centre[k].at;
-                let side = self.period.side;
-                let d = d - (d / side).round() * side;
+                let (d, _) = self.period.apart(self.centre[i].at - self.centre[k].at);
                 let reach = (self.motion[i].radius + self.motion[k].radius) * self.list_factor;
                 let listed = self.lists.of(i as u32).contains(&(k as u32));
                 if !listed && d.length() < reach * (1.0 - 1e-12) {

@@ -9,7 +9,7 @@
 //! the sphere's next event among the pairs it still covers; once they are spent, the shell
 //! crossing is, if no pair before it was left out.
 
-use super::{Kind, PeriodicSpheres, Scheduled, TIE_SHELL};
+use super::{Kind, ListedSpheres, Scheduled, TIE_SHELL, TIE_WALL};
 use kinetic_core::Real;
 use kinetic_core::kds::pair_key;
 
@@ -100,8 +100,10 @@ pub(super) struct SavedRunners {
     /// Runners-up not yet taken: `taken..len`.
     taken: u8,
     len: u8,
-    /// The shell crossing comes once the runners-up are spent.
+    /// The sphere's own event comes once the runners-up are spent.
     shell_next: bool,
+    /// Its own event is a wall contact (else its shell crossing).
+    wall_next: bool,
 }
 
 impl SavedRunners {
@@ -114,13 +116,14 @@ impl SavedRunners {
         taken: 0,
         len: 0,
         shell_next: false,
+        wall_next: false,
     };
 }
 
-impl PeriodicSpheres {
+impl ListedSpheres {
     /// Keeps what sphere `id`'s prediction found after its earliest event, a pair.
     #[inline]
-    pub(super) fn keep_spare(&mut self, id: u32, runners: &Runners, shell: Real) {
+    pub(super) fn keep_spare(&mut self, id: u32, runners: &Runners, shell: Real, own: Kind) {
         let mut spare = SavedRunners::NONE;
         if runners.usable {
             for j in 0..runners.len {
@@ -132,12 +135,13 @@ impl PeriodicSpheres {
             spare.shell = shell;
             // A full list turned away pairs after its last: some may come before the shell.
             spare.shell_next = runners.len < RUNNERS;
+            spare.wall_next = own == Kind::Wall;
         }
         self.spares[id as usize] = spare;
     }
 
-    /// Sphere `id`'s event went stale: schedules its first standing runner-up, or its shell
-    /// crossing when that comes next; returns whether it did (if not, the sphere predicts).
+    /// Sphere `id`'s event went stale: schedules its first standing runner-up, or its own
+    /// event (shell crossing or wall contact) when that comes next; returns whether it did (if not, the sphere predicts).
     pub(super) fn take_spare(&mut self, id: u32) -> bool {
         let i = id as usize;
         let now = self.now;
@@ -161,12 +165,17 @@ impl PeriodicSpheres {
         }
         if spare.shell_next && spare.shell > now {
             let shell = spare.shell;
+            let (kind, tie) = if spare.wall_next {
+                (Kind::Wall, TIE_WALL)
+            } else {
+                (Kind::Shell, TIE_SHELL)
+            };
             *spare = SavedRunners::NONE;
             let scheduled = Scheduled {
-                kind: Kind::Shell,
+                kind,
                 ..Scheduled::default()
             };
-            self.queue.schedule(id, shell, TIE_SHELL, scheduled);
+            self.queue.schedule(id, shell, tie, scheduled);
             self.spare_counts[1] += 1;
             return true;
         }

@@ -1,5 +1,6 @@
-//! `periodic`: elastic spheres in a periodic box, the bulk fluids of hard-sphere event-driven
-//! molecular dynamics, with neighbour lists and one scheduled event per sphere.
+//! `listed`: elastic spheres of similar sizes in a periodic box or inside walls, the hard-sphere
+//! fluids of event-driven molecular dynamics, with neighbour lists and one scheduled event per
+//! sphere.
 //!
 //! The certificates are the world's: a disjointness certificate per pair of listed spheres
 //! (the same gap polynomial and root formula, so a pair whose image does not wrap fails at the
@@ -25,7 +26,13 @@
 //!   since is stale and only makes its sphere predict again.
 //! - **Lazy positions**: a sphere's state changes only at its own events.
 //!
-//! Statistics add the collision virial, from which the run's pressure follows.
+//! - **Walls** (instead of a period): no images; each sphere's own event is the earlier of
+//!   its shell crossing and its wall certificate, the world's (the wall contact of its plan,
+//!   computed when the plan starts), and a wall contact reverses the velocity across the wall
+//!   as the world's bounce does. The grid of list centres does not wrap.
+//!
+//! Statistics add the collision virial, from which the run's pressure follows in a periodic
+//! box, and the impulse on the walls, from which it follows inside walls.
 
 mod build;
 mod calendar;
@@ -40,8 +47,9 @@ mod validate;
 use calendar::Calendar;
 use kinetic_core::elastic::Motion;
 use kinetic_core::elastic::ROUNDING;
+use kinetic_core::elastic::WallHit;
 use kinetic_core::elastic::ZenoGuard;
-use kinetic_core::{ContactEvent, Stats};
+use kinetic_core::{ContactEvent, Stats, Walls};
 use kinetic_core::{Real, Vec3};
 use rustc_hash::FxHashMap;
 
@@ -58,6 +66,9 @@ const SLACK: Real = 1e-9;
 const NIL: u32 = u32::MAX;
 /// The tie-break of shell crossings: after every pair event at the same time.
 const TIE_SHELL: u64 = u64::MAX;
+/// The tie-break of wall contacts: after every pair event at the same time, before a shell
+/// crossing.
+const TIE_WALL: u64 = u64::MAX - 1;
 
 /// An axis-aligned periodic box: space repeats with period `max - min` along each axis.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -78,6 +89,8 @@ enum Kind {
     Pair,
     /// The sphere reaches its shell.
     Shell,
+    /// The sphere reaches a wall.
+    Wall,
 }
 
 /// A sphere's next event: time, queue tie-break, and for a pair the partner and the
@@ -142,6 +155,28 @@ struct Period {
 }
 
 impl Period {
+    /// The period of `cell`.
+    fn of(cell: &PeriodicBox) -> Period {
+        let side = cell.max - cell.min;
+        Period {
+            min: cell.min,
+            side,
+            inv_side: Vec3::ONE / side,
+            half_side: side * 0.5,
+        }
+    }
+
+    /// No period (inside walls from `min` to `max`): every difference is its own nearest
+    /// image, and no point lies outside.
+    fn none(min: Vec3, max: Vec3) -> Period {
+        Period {
+            min,
+            side: max - min,
+            inv_side: Vec3::ZERO,
+            half_side: Vec3::INFINITY,
+        }
+    }
+
     /// The image shift `s L` that makes the difference `d` smallest.
     #[inline]
     fn nearest(&self, d: Vec3) -> Vec3 {
@@ -180,27 +215,32 @@ fn round(v: Vec3) -> Vec3 {
     (v + ROUNDING) - ROUNDING
 }
 
-/// Elastic spheres in a periodic box: the whole simulation of a bulk hard-sphere fluid, with
-/// the world's events and statistics.
+/// Elastic spheres of similar sizes in a periodic box ([`ListedSpheres::periodic`]) or inside
+/// walls ([`ListedSpheres::in_walls`]): the whole simulation of a hard-sphere fluid, with the
+/// world's events and statistics.
 ///
 /// ```
 /// # use kinetic_core::{FlightPlan, Vec3};
-/// # use kinetic_spheres::{PeriodicBox, PeriodicSpheres};
+/// # use kinetic_spheres::{PeriodicBox, ListedSpheres};
 /// let cell = PeriodicBox { min: Vec3::ZERO, max: Vec3::splat(10.0) };
 /// let spheres = [
 ///     (0.5, FlightPlan::linear(Vec3::new(1.0, 5.0, 5.0), Vec3::new(-1.0, 0.0, 0.0))),
 ///     (0.5, FlightPlan::at_rest(Vec3::new(8.0, 5.0, 5.0))),
 /// ];
-/// let mut gas = PeriodicSpheres::new(cell, &spheres).unwrap();
+/// let mut gas = ListedSpheres::periodic(cell, &spheres).unwrap();
 /// gas.advance_to(5.0).unwrap();
 /// let events = gas.drain_events();
 /// // The first sphere leaves through x = 0 and meets the second's image at t = 2.
 /// assert_eq!(events[0].time, 2.0);
 /// ```
 #[derive(Debug)]
-pub struct PeriodicSpheres {
+pub struct ListedSpheres {
     now: Real,
     period: Period,
+    /// The walls, inside walls (no period then).
+    walls: Option<Walls>,
+    /// Each sphere's wall certificate: its plan's first wall contact (inside walls).
+    wall: Vec<Option<WallHit>>,
     /// Spheres are numbered internally in memory order (cell by cell): `ext` gives each
     /// one's own id.
     ext: Vec<u32>,
@@ -223,6 +263,8 @@ pub struct PeriodicSpheres {
     /// `(2 r)^3`): the collision virial.
     collisions: u64,
     virial: Real,
+    /// The impulse the walls gave, summed over their contacts (mass `(2 r)^3`).
+    wall_impulse: Real,
     /// Twice the kinetic energy, `sum m v^2` (constant: collisions are elastic).
     two_kinetic: Real,
     /// Time from which the bulk figures are taken.
@@ -230,8 +272,8 @@ pub struct PeriodicSpheres {
     zeno: ZenoGuard,
     /// A pair is listed when its centres are within this many times its sum of radii.
     list_factor: Real,
-    /// Events processed: collisions, stale events, shell crossings, grazes.
-    event_counts: [u64; 4],
+    /// Events processed: collisions, stale events, shell crossings, grazes, wall contacts.
+    event_counts: [u64; 5],
     /// Stale events that took a runner-up, and that took the shell crossing.
     spare_counts: [u64; 2],
     /// Room for what the first pass of a prediction writes.
@@ -243,14 +285,15 @@ pub struct PeriodicSpheres {
     found: Vec<u32>,
 }
 
-/// Bulk figures of a periodic run: collision rate, temperature and pressure.
+/// Bulk figures of a run: collision rate, temperature and pressure.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Bulk {
     /// Collisions per sphere per unit time.
     pub collision_rate: Real,
     /// `kT`: twice the kinetic energy per sphere over three (mass `(2 r)^3`).
     pub temperature: Real,
-    /// Pressure from the collision virial: `(N kT + W / (3 t)) / V`.
+    /// Pressure: in a periodic box from the collision virial, `(N kT + W / (3 t)) / V`; inside
+    /// walls the impulse the walls gave per unit of their area and of time.
     pub pressure: Real,
     /// `P V / (N kT)`.
     pub compressibility: Real,
@@ -258,7 +301,7 @@ pub struct Bulk {
     pub packing: Real,
 }
 
-impl PeriodicSpheres {
+impl ListedSpheres {
     /// The current time.
     pub fn now(&self) -> Real {
         self.now
@@ -290,6 +333,7 @@ impl PeriodicSpheres {
         self.start = self.now;
         self.collisions = 0;
         self.virial = 0.0;
+        self.wall_impulse = 0.0;
     }
 
     /// Takes the contact events found so far.
@@ -310,7 +354,12 @@ impl PeriodicSpheres {
         let elapsed = self.now - self.start;
         let kt = self.two_kinetic / (3.0 * n);
         let per_time = if elapsed > 0.0 { 1.0 / elapsed } else { 0.0 };
-        let pressure = (n * kt + self.virial * per_time / 3.0) / volume;
+        let pressure = if self.walls.is_some() {
+            let area = 2.0 * (side.x * side.y + side.y * side.z + side.z * side.x);
+            self.wall_impulse * per_time / area
+        } else {
+            (n * kt + self.virial * per_time / 3.0) / volume
+        };
         let filled: Real = self
             .motion
             .iter()
@@ -360,3 +409,5 @@ impl PeriodicSpheres {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod walls_tests;

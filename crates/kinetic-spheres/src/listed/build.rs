@@ -5,11 +5,11 @@ use super::calendar::Calendar;
 use super::grid::CentreGrid;
 use super::lists::Lists;
 use super::runners::SavedRunners;
-use super::{ListCentre, NEIGHBOURS, Period, PeriodicBox, PeriodicSpheres, SHELL, SLACK};
+use super::{ListCentre, NEIGHBOURS, Period, PeriodicBox, ListedSpheres, SHELL, SLACK};
 use kinetic_core::FlightPlan;
 use kinetic_core::elastic::Motion;
 use kinetic_core::elastic::ZenoGuard;
-use kinetic_core::{MAX_MAGNITUDE, Stats, WorldError};
+use kinetic_core::{MAX_MAGNITUDE, Stats, Walls, WorldError};
 use kinetic_core::{Real, Vec3};
 use rustc_hash::FxHashMap;
 
@@ -30,14 +30,18 @@ fn invalid(what: String) -> WorldError {
     WorldError::InvalidShape(what)
 }
 
-impl PeriodicSpheres {
+impl ListedSpheres {
     /// The shell factor for spheres filling a share `packing` of a box of `side`, the
     /// largest of radius `r_max`: the factor at which a sphere lists about [`NEIGHBOURS`]
-    /// others (equal spheres list `8 packing shell^3`), within [`SHELL`], or less where the
-    /// box is small, so that it is three list reaches wide; `None` when the box is too small
-    /// even for a thin shell.
-    fn shell_factor(side: Vec3, r_max: Real, packing: Real) -> Option<Real> {
-        let fit = side.min_element() / (3.0 * 2.0 * r_max * (1.0 + 1e-6));
+    /// others (equal spheres list `8 packing shell^3`), within [`SHELL`], or, in a periodic
+    /// box, less where the box is small, so that it is three list reaches wide; `None` when
+    /// the box is too small even for a thin shell.
+    fn shell_factor(side: Vec3, r_max: Real, packing: Real, periodic: bool) -> Option<Real> {
+        let fit = if periodic {
+            side.min_element() / (3.0 * 2.0 * r_max * (1.0 + 1e-6))
+        } else {
+            Real::INFINITY
+        };
         let wanted = (NEIGHBOURS / (8.0 * packing)).cbrt();
         let shell = if wanted.is_finite() {
             wanted.clamp(SHELL.0, SHELL.1)
@@ -51,8 +55,46 @@ impl PeriodicSpheres {
     /// Elastic spheres `(radius, plan)` in the periodic box `cell`: the sphere with index `i`
     /// gets id `i`. Plans must be linear (no acceleration), start inside the box, and the
     /// box must be at least about 3.1 largest diameters wide along each axis.
-    pub fn new(cell: PeriodicBox, spheres: &[(Real, FlightPlan)]) -> Result<Self, WorldError> {
-        let side = cell.max - cell.min;
+    pub fn periodic(cell: PeriodicBox, spheres: &[(Real, FlightPlan)]) -> Result<Self, WorldError> {
+        Self::build(Period::of(&cell), None, spheres)
+    }
+
+    /// Elastic spheres `(radius, plan)` inside `walls`, bouncing off them as the world's
+    /// balls do: the sphere with index `i` gets id `i`. Plans must be linear (no
+    /// acceleration), and each sphere must start inside the walls. Spheres of similar sizes
+    /// suit it (each lists the spheres within a reach set by the largest); for sizes spread
+    /// widely, [`crate::ElasticCells`] keeps one grid level per size.
+    pub fn in_walls(walls: Walls, spheres: &[(Real, FlightPlan)]) -> Result<Self, WorldError> {
+        let side = walls.max - walls.min;
+        if !(side.is_finite() && side.min_element() > 0.0) || side.max_element() > MAX_MAGNITUDE {
+            return Err(invalid(format!(
+                "walls: max {:?} must be above min {:?}, both finite",
+                walls.max, walls.min
+            )));
+        }
+        for (i, (r, plan)) in spheres.iter().enumerate() {
+            let p = plan.position_at(plan.t0);
+            if r.is_finite() && !((p - *r).cmpge(walls.min).all() && (p + *r).cmple(walls.max).all())
+            {
+                return Err(invalid(format!(
+                    "object {i}: ball at {p:?} of radius {r} is not inside the walls"
+                )));
+            }
+        }
+        Self::build(Period::none(walls.min, walls.max), Some(walls), spheres)
+    }
+
+    fn build(
+        period: Period,
+        walls: Option<Walls>,
+        spheres: &[(Real, FlightPlan)],
+    ) -> Result<Self, WorldError> {
+        let what = if walls.is_some() { "walls" } else { "periodic box" };
+        let cell = PeriodicBox {
+            min: period.min,
+            max: period.min + period.side,
+        };
+        let side = period.side;
         if !(side.is_finite() && side.min_element() > 0.0) || side.max_element() > MAX_MAGNITUDE {
             return Err(invalid(format!(
                 "periodic box: max {:?} must be above min {:?}, both finite",
@@ -60,7 +102,7 @@ impl PeriodicSpheres {
             )));
         }
         if spheres.len() >= (1 << 31) {
-            return Err(invalid("periodic box: at most 2^31 spheres".into()));
+            return Err(invalid(format!("{what}: at most 2^31 spheres")));
         }
         let mut r_max: Real = 0.0;
         for (i, (r, plan)) in spheres.iter().enumerate() {
@@ -69,11 +111,11 @@ impl PeriodicSpheres {
             }
             if !plan.is_finite() || plan.acceleration != Vec3::ZERO {
                 return Err(invalid(format!(
-                    "object {i}: a periodic box takes spheres moving linearly (finite, no acceleration)"
+                    "object {i}: the {what} takes spheres moving linearly (finite, no acceleration)"
                 )));
             }
             let p = plan.position_at(0.0);
-            if !(p.cmpge(cell.min).all() && p.cmple(cell.max).all()) {
+            if walls.is_none() && !(p.cmpge(cell.min).all() && p.cmple(cell.max).all()) {
                 return Err(invalid(format!(
                     "object {i}: centre {p:?} is outside the periodic box"
                 )));
@@ -88,7 +130,7 @@ impl PeriodicSpheres {
         let shell = if spheres.is_empty() {
             SHELL.0
         } else {
-            Self::shell_factor(side, r_max, packing).ok_or_else(|| {
+            Self::shell_factor(side, r_max, packing, walls.is_none()).ok_or_else(|| {
                 invalid(format!(
                     "periodic box: each side must be at least {:.4} (3.03 largest diameters), got {side:?}",
                     6.06 * r_max
@@ -97,7 +139,13 @@ impl PeriodicSpheres {
         };
         let n = spheres.len();
         let reach = shell * 2.0 * r_max * (1.0 + SLACK);
-        let mut grid = CentreGrid::new(n, cell.min, side, reach.max(Real::MIN_POSITIVE));
+        let mut grid = CentreGrid::new(
+            n,
+            cell.min,
+            side,
+            reach.max(Real::MIN_POSITIVE),
+            walls.is_none(),
+        );
         // Memory order: by Z-curve of the starting cell, so neighbours sit close.
         let mut order: Vec<(u64, u32)> = spheres
             .iter()
@@ -127,14 +175,11 @@ impl PeriodicSpheres {
         for (i, c) in centre.iter().enumerate() {
             grid.insert(i as u32, c.at, motion[i].radius);
         }
-        let mut gas = PeriodicSpheres {
+        let mut gas = ListedSpheres {
             now: 0.0,
-            period: Period {
-                min: cell.min,
-                side,
-                inv_side: Vec3::ONE / side,
-                half_side: side * 0.5,
-            },
+            period,
+            walls,
+            wall: vec![None; n],
             ext,
             motion,
             counter: vec![0; n],
@@ -148,11 +193,12 @@ impl PeriodicSpheres {
             stats: Stats::default(),
             collisions: 0,
             virial: 0.0,
+            wall_impulse: 0.0,
             two_kinetic,
             start: 0.0,
             zeno: ZenoGuard::default(),
             list_factor: shell * (1.0 + SLACK),
-            event_counts: [0; 4],
+            event_counts: [0; 5],
             spare_counts: [0; 2],
             sifted: None,
             #[cfg(target_arch = "x86_64")]
@@ -160,6 +206,9 @@ impl PeriodicSpheres {
             found: Vec::new(),
         };
         gas.list_all();
+        for id in 0..n as u32 {
+            gas.wall[id as usize] = gas.wall_kept(id);
+        }
         // The first events, then a calendar whose buckets hold a few dozen events each.
         let mut sum = 0.0;
         let mut finite = 0usize;

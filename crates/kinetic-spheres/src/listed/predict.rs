@@ -1,9 +1,11 @@
 //! Predicting a sphere's next event: its listed pairs (closed forms, or the world's root
-//! walk) and its shell crossing, the earliest of which is scheduled.
+//! walk), its shell crossing and its wall contact, the earliest of which is scheduled.
 
 use super::first_pass::{BATCH, Kept};
 use super::runners::Runners;
-use super::{Kind, Motion, Next, PeriodicSpheres, TIE_SHELL};
+use super::{Kind, ListedSpheres, Motion, Next, TIE_SHELL, TIE_WALL};
+use kinetic_core::FlightPlan;
+use kinetic_core::elastic::{WallHit, wall_hit};
 use kinetic_core::Response;
 use kinetic_core::elastic::{Due, Walk};
 use kinetic_core::kds::certificates::ball_ball_gap;
@@ -160,7 +162,7 @@ fn shell_exit(position: Vec3, velocity: Vec3, centre: Vec3, radius: Real) -> Rea
     .max(0.0)
 }
 
-impl PeriodicSpheres {
+impl ListedSpheres {
     /// The time up to which the pair's events were consumed, if any.
     #[inline]
     pub(super) fn skip_of(&self, a: u32, b: u32) -> Option<Real> {
@@ -172,16 +174,57 @@ impl PeriodicSpheres {
             .map(|s| s.2)
     }
 
-    /// Sphere `id`'s motion, its centre now, and its shell crossing as the earliest event so
-    /// far: where a prediction starts.
+    /// Sphere `id`'s wall certificate as it is kept: its plan's first wall contact when it
+    /// may reach a wall before its shell (see [`ListedSpheres::near_wall`]), else `None` until
+    /// it re-centres.
+    pub(super) fn wall_kept(&self, id: u32) -> Option<WallHit> {
+        if self.near_wall(id) {
+            self.wall_of(id)
+        } else {
+            None
+        }
+    }
+
+    /// Whether sphere `id` may touch a wall while within its shell: its list centre is within
+    /// the shell plus its radius (and a hair) of a wall. A sphere that may not reaches its
+    /// shell before any wall, and its wall certificate can wait until it re-centres: the
+    /// certificate is taken at the plan's start, so it is then the same, bit for bit.
+    pub(super) fn near_wall(&self, id: u32) -> bool {
+        let Some(walls) = self.walls.as_ref() else {
+            return false;
+        };
+        let i = id as usize;
+        let c = &self.centre[i];
+        let reach = (c.shell + self.motion[i].radius) * (1.0 + 1e-9);
+        !((c.at - reach).cmpgt(walls.min).all() && (c.at + reach).cmplt(walls.max).all())
+    }
+
+    /// Sphere `id`'s wall certificate inside walls: the first wall contact of its plan, as
+    /// the world computes it when the plan starts (`None` in a periodic box).
+    pub(super) fn wall_of(&self, id: u32) -> Option<WallHit> {
+        let walls = self.walls.as_ref()?;
+        let m = &self.motion[id as usize];
+        let plan = FlightPlan::linear(m.position, m.velocity).starting_at(m.t0);
+        wall_hit(&plan, m.radius, walls, 3, m.t0.min(self.now))
+    }
+
+    /// Sphere `id`'s motion, its centre now, and its own event (the earlier of its shell
+    /// crossing and its wall contact) as the earliest event so far: where a prediction
+    /// starts.
     #[inline]
     fn start_prediction(&self, id: u32) -> (Motion, Vec3, Earliest) {
         let i = id as usize;
         let m = self.motion[i];
         let here = m.at(self.now);
         let c = self.centre[i];
-        let exit = shell_exit(here, m.velocity, c.at, c.shell);
-        (m, here, Earliest::new(self.now + exit))
+        let exit = self.now + shell_exit(here, m.velocity, c.at, c.shell);
+        let wall = self.wall[i].map_or(Real::INFINITY, |h| h.time.max(self.now));
+        let earliest = if wall <= exit {
+            Earliest::new(wall, Kind::Wall, TIE_WALL)
+        } else {
+            Earliest::new(exit, Kind::Shell, TIE_SHELL)
+        };
+        (m, here, earliest)
     }
 
     /// Recomputes sphere `id`'s next event from its shell and its listed pairs (each through
@@ -232,7 +275,7 @@ impl PeriodicSpheres {
         // A shell crossing never goes stale, so the spare of an earlier prediction is left
         // as it is: only a stale pair event, scheduled by this prediction or its spare, reads it.
         if next.kind == Kind::Pair {
-            self.keep_spare(id, &best.runners, best.shell);
+            self.keep_spare(id, &best.runners, best.shell, best.own);
         }
         self.queue
             .schedule(id, next.time, next.tie, next.scheduled());
@@ -279,27 +322,31 @@ impl PeriodicSpheres {
     }
 }
 
-/// The earliest event found so far while predicting (the shell crossing or a pair), its tie
-/// key once a tie has asked for it, and the runners-up after it.
+/// The earliest event found so far while predicting (the sphere's own event or a pair), its
+/// tie key once a tie has asked for it, and the runners-up after it.
 struct Earliest {
     next: Next,
     tie: Option<u64>,
+    /// The time of the sphere's own event (its shell crossing or its wall contact) and which
+    /// it is.
     shell: Real,
+    own: Kind,
     runners: Runners,
 }
 
 impl Earliest {
-    fn new(shell: Real) -> Earliest {
+    fn new(shell: Real, own: Kind, tie: u64) -> Earliest {
         let next = Next {
             time: shell,
-            tie: TIE_SHELL,
-            kind: Kind::Shell,
+            tie,
+            kind: own,
             ..Next::IDLE
         };
         Earliest {
             next,
             tie: None,
             shell,
+            own,
             runners: Runners::new(),
         }
     }
@@ -311,7 +358,8 @@ impl Earliest {
     }
 
     /// Keeps the pair with `other` failing at `time` if it comes first: earlier, or at the
-    /// same time with a lower key (`key_of(other)`, asked only on a tie; shells go last).
+    /// same time with a lower key (`key_of(other)`, asked only on a tie; the sphere's own
+    /// event goes last).
     /// What comes after the earliest is offered to the runners-up.
     #[inline]
     fn offer(&mut self, time: Real, graze: bool, other: u32, key_of: impl Fn(u32) -> u64) {
@@ -324,7 +372,7 @@ impl Earliest {
             let held = match (self.tie, self.next.kind) {
                 (Some(t), _) => t,
                 (None, Kind::Pair) => key_of(self.next.other),
-                (None, _) => TIE_SHELL,
+                (None, _) => self.next.tie,
             };
             let tie = key_of(other);
             if tie >= held {
@@ -361,7 +409,7 @@ impl Earliest {
 }
 
 #[cfg(test)]
-impl PeriodicSpheres {
+impl ListedSpheres {
     /// Checks a prediction against every listed pair taken by [`pair_due`] with no bound.
     fn check_prediction(&self, id: u32, next: &Next) {
         let i = id as usize;

@@ -58,8 +58,8 @@ struct Probe {
     reach2: f32,
 }
 
-/// A uniform grid over one period of the box, each cell holding the list centres that lie in
-/// it. Centres are kept, and distances to them taken, in single precision: a pair is listed
+/// A uniform grid over one period of the box (or over the box inside walls), each cell
+/// holding the list centres that lie in it. Centres are kept, and distances to them taken, in single precision: a pair is listed
 /// when its centres are within its reach plus a margin that covers the rounding (a hair
 /// early, never late).
 #[derive(Clone, Debug)]
@@ -87,24 +87,40 @@ pub(super) struct CentreGrid {
     min: Vec3,
     side: Vec3,
     inv_side: Vec3,
+    /// Whether space repeats (a periodic box). Inside walls, neighbours beyond the box's
+    /// cells are the always empty cell at the end, and fractions are taken of twice the box,
+    /// so that no difference of centres near it wraps.
+    wrap: bool,
+    /// The length fractions are taken of: the box's side, or twice it inside walls.
+    span: Vec3,
 }
 
 impl CentreGrid {
     /// A grid for `spheres` over a box at `min` of `side`, with cells at least `reach` wide
-    /// (at least 3 per axis: the caller checks), no more than about 2 per sphere.
-    pub(super) fn new(spheres: usize, min: Vec3, side: Vec3, reach: Real) -> CentreGrid {
+    /// (in a periodic box, `wrap`, at least 3 per axis: the caller checks), no more than
+    /// about 2 per sphere.
+    pub(super) fn new(
+        spheres: usize,
+        min: Vec3,
+        side: Vec3,
+        reach: Real,
+        wrap: bool,
+    ) -> CentreGrid {
+        let least = if wrap { 3 } else { 1 };
         let mut n = [0u32; 3];
         for k in 0..3 {
-            n[k] = ((side[k] / (reach * (1.0 + 1e-6))).floor().min(1e6) as u32).max(3);
+            n[k] = ((side[k] / (reach * (1.0 + 1e-6))).floor().min(1e6) as u32).max(least);
         }
         while (n[0] as u64 * n[1] as u64 * n[2] as u64) > 2 * spheres as u64 + 27
-            && n.iter().all(|&c| c > 3)
+            && n.iter().all(|&c| c > least)
         {
             for c in &mut n {
-                *c = (*c * 9 / 10).max(3);
+                *c = (*c * 9 / 10).max(least);
             }
         }
-        let cells = n[0] as usize * n[1] as usize * n[2] as usize;
+        // Inside walls, one more cell that stays empty: the neighbour beyond the box.
+        let cells = n[0] as usize * n[1] as usize * n[2] as usize + usize::from(!wrap);
+        let span = if wrap { side } else { 2.0 * side };
         // Room for twice the mean, in one to four blocks: a cell spills rarely.
         let mean = spheres as Real / cells as Real;
         let blocks = ((2.0 * mean / LANES as Real).ceil() as usize).clamp(1, 4);
@@ -123,11 +139,13 @@ impl CentreGrid {
             // much, their difference as much again, and the products and sums a few parts in
             // 2^24 of the distance: all within 2^-22 of the box's diagonal. This is four
             // times that.
-            margin: side.length() * (2.0 as Real).powi(-20),
+            margin: span.length() * (2.0 as Real).powi(-20),
             scale: Vec3::new(n[0] as Real, n[1] as Real, n[2] as Real) / side,
             min,
             side,
             inv_side: Vec3::ONE / side,
+            wrap,
+            span,
         }
     }
 
@@ -140,13 +158,17 @@ impl CentreGrid {
         self.blocks * LANES
     }
 
-    /// The cell of a point, wrapped into the box.
+    /// The cell of a point, wrapped into the box (inside walls, the nearest cell).
     #[inline]
     pub(super) fn cell(&self, p: Vec3) -> [u32; 3] {
         let p = p - self.min;
         let mut c = [0u32; 3];
         for k in 0..3 {
-            let w = p[k] - (p[k] * self.inv_side[k]).floor() * self.side[k];
+            let w = if self.wrap {
+                p[k] - (p[k] * self.inv_side[k]).floor() * self.side[k]
+            } else {
+                p[k]
+            };
             let x = (w * self.scale[k]).floor();
             c[k] = if x < 0.0 {
                 0
@@ -162,10 +184,10 @@ impl CentreGrid {
         (c[2] * self.n[1] + c[1]) * self.n[0] + c[0]
     }
 
-    /// Where `p` lies as a fraction of the box, wrapped into it.
+    /// Where `p` lies as a fraction of the span, wrapped into it.
     #[inline]
     fn fraction(&self, p: Vec3) -> [Real; 3] {
-        let x = (p - self.min) * self.inv_side;
+        let x = (p - self.min) / self.span;
         let x = x - x.floor();
         [x.x, x.y, x.z]
     }
@@ -255,9 +277,13 @@ impl CentreGrid {
         self.count[c] -= 1;
     }
 
-    /// The 27 cells around `c`, with wrap-around.
+    /// The 27 cells around `c`, with wrap-around (inside walls, the empty cell for those
+    /// beyond the box).
     #[inline]
     fn around(&self, c: [u32; 3]) -> [u32; 27] {
+        if !self.wrap {
+            return self.around_inside(c);
+        }
         let n = self.n;
         let mut cells = [0; 27];
         let mut at = 0;
@@ -268,6 +294,32 @@ impl CentreGrid {
                 let row = self.index([0, y, z]);
                 for dx in [n[0] - 1, 0, 1] {
                     cells[at] = row + (c[0] + dx) % n[0];
+                    at += 1;
+                }
+            }
+        }
+        cells
+    }
+
+    /// The 27 cells around `c` inside walls: those beyond the box are the empty last cell.
+    fn around_inside(&self, c: [u32; 3]) -> [u32; 27] {
+        let empty = (self.count.len() - 1) as u32;
+        let step = |x: u32, d: i64, n: u32| -> Option<u32> {
+            let y = i64::from(x) + d;
+            (0..i64::from(n)).contains(&y).then_some(y as u32)
+        };
+        let mut cells = [empty; 27];
+        let mut at = 0;
+        for dz in [-1, 0, 1] {
+            for dy in [-1, 0, 1] {
+                for dx in [-1, 0, 1] {
+                    if let (Some(x), Some(y), Some(z)) = (
+                        step(c[0], dx, self.n[0]),
+                        step(c[1], dy, self.n[1]),
+                        step(c[2], dz, self.n[2]),
+                    ) {
+                        cells[at] = self.index([x, y, z]);
+                    }
                     at += 1;
                 }
             }
@@ -314,7 +366,7 @@ impl CentreGrid {
         let me = self.fraction(centre);
         let probe = Probe {
             me: me.map(|x| x as f32),
-            side: [self.side.x as f32, self.side.y as f32, self.side.z as f32],
+            side: [self.span.x as f32, self.span.y as f32, self.span.z as f32],
             reach2,
         };
         let mut len = 0;
@@ -328,7 +380,7 @@ impl CentreGrid {
             for cell in &cells {
                 for f in self.spill.get(cell).map_or(&[][..], Vec::as_slice) {
                     found[len] = f.id;
-                    len += usize::from(distance2(me, f, self.side) < reach * reach);
+                    len += usize::from(distance2(me, f, self.span) < reach * reach);
                 }
             }
         }
@@ -337,7 +389,7 @@ impl CentreGrid {
             found.retain(|&k| {
                 let f = self.find(self.cell_of[k as usize] as usize, k);
                 let reach = (radius + Real::from(self.radius[k as usize])) * factor + self.margin;
-                distance2(me, &f, self.side) < reach * reach
+                distance2(me, &f, self.span) < reach * reach
             });
         }
     }
@@ -532,7 +584,7 @@ mod tests {
     fn search_crowded_cells(radius: impl Fn(u32) -> Real, differ: bool) {
         let side = Vec3::new(10.0, 9.0, 11.0);
         let n = 300;
-        let mut grid = CentreGrid::new(n, Vec3::splat(-1.0), side, 2.0);
+        let mut grid = CentreGrid::new(n, Vec3::splat(-1.0), side, 2.0, true);
         let mut state = 7u64;
         let mut rand = || {
             state ^= state << 13;

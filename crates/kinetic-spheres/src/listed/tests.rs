@@ -44,12 +44,12 @@ fn random_spheres(
 }
 
 /// The sum of squared speeds: twice the kinetic energy, for spheres of equal mass.
-fn energy(gas: &PeriodicSpheres) -> Real {
+fn energy(gas: &ListedSpheres) -> Real {
     gas.motion.iter().map(|m| m.velocity.length_squared()).sum()
 }
 
 /// Runs `gas` to `t`, validating after every event.
-fn run(gas: &mut PeriodicSpheres, t: Real) -> Vec<ContactEvent> {
+fn run(gas: &mut ListedSpheres, t: Real) -> Vec<ContactEvent> {
     gas.validate().unwrap();
     while gas.step(t).unwrap() {
         gas.validate()
@@ -67,7 +67,7 @@ fn a_box_too_wide_to_wrap_gives_the_worlds_log() {
             min: Vec3::splat(-100.0),
             max: Vec3::splat(100.0),
         };
-        let mut gas = PeriodicSpheres::new(cell, &spheres).unwrap();
+        let mut gas = ListedSpheres::periodic(cell, &spheres).unwrap();
         let mut world = Simulator::with_structure(
             WorldKind::Free,
             Response::Elastic,
@@ -156,7 +156,7 @@ fn images_collide_as_the_exhaustive_reference_says() {
             min: Vec3::ZERO,
             max: Vec3::splat(side),
         };
-        let mut gas = PeriodicSpheres::new(cell, &spheres).unwrap();
+        let mut gas = ListedSpheres::periodic(cell, &spheres).unwrap();
         let got = run(&mut gas, 12.0);
         let expected = reference(cell, &spheres, 12.0);
         assert!(
@@ -177,20 +177,20 @@ fn images_collide_as_the_exhaustive_reference_says() {
 }
 
 /// 300 spheres of radius 0.5 in a periodic box of side 12, at random from `seed`.
-fn thin_gas(seed: u64) -> PeriodicSpheres {
+fn thin_gas(seed: u64) -> ListedSpheres {
     let side = 12.0;
     let spheres = random_spheres(seed, 300, (0.5, 0.5), 0.0, side, 1.0);
     let cell = PeriodicBox {
         min: Vec3::ZERO,
         max: Vec3::splat(side),
     };
-    PeriodicSpheres::new(cell, &spheres).unwrap()
+    ListedSpheres::periodic(cell, &spheres).unwrap()
 }
 
 #[test]
 fn energy_and_momentum_are_kept_and_the_bulk_is_sane() {
     let mut gas = thin_gas(9);
-    let momentum = |g: &PeriodicSpheres| -> Vec3 { g.motion.iter().map(|m| m.velocity).sum() };
+    let momentum = |g: &ListedSpheres| -> Vec3 { g.motion.iter().map(|m| m.velocity).sum() };
     let (e0, p0) = (energy(&gas), momentum(&gas));
     gas.advance_to(30.0).unwrap();
     gas.validate().unwrap();
@@ -208,26 +208,26 @@ fn bad_boxes_and_spheres_are_refused() {
         max: Vec3::splat(2.0),
     };
     let one = [(0.5, FlightPlan::at_rest(Vec3::ONE))];
-    let e = PeriodicSpheres::new(cell, &one).unwrap_err().to_string();
+    let e = ListedSpheres::periodic(cell, &one).unwrap_err().to_string();
     assert!(e.contains("at least"), "{e}");
     let cell = PeriodicBox {
         min: Vec3::ZERO,
         max: Vec3::splat(10.0),
     };
     let outside = [(0.5, FlightPlan::at_rest(Vec3::splat(11.0)))];
-    assert!(PeriodicSpheres::new(cell, &outside).is_err());
+    assert!(ListedSpheres::periodic(cell, &outside).is_err());
     let falling = [(
         0.5,
         FlightPlan::accelerated(Vec3::ONE, Vec3::ZERO, Vec3::new(0.0, 0.0, -9.8)),
     )];
-    assert!(PeriodicSpheres::new(cell, &falling).is_err());
-    let empty = PeriodicSpheres::new(cell, &[]).unwrap();
+    assert!(ListedSpheres::periodic(cell, &falling).is_err());
+    let empty = ListedSpheres::periodic(cell, &[]).unwrap();
     assert!(empty.is_empty());
 }
 
 /// `k^3` spheres of diameter 1 on a cubic lattice at packing 0.45 in a periodic box, with
 /// random velocities from `seed`: a dense fluid once the lattice melts.
-fn dense_lattice(k: usize, seed: u64) -> PeriodicSpheres {
+fn dense_lattice(k: usize, seed: u64) -> ListedSpheres {
     let spacing = (std::f64::consts::PI / 6.0 / 0.45).cbrt();
     let side = spacing * k as Real;
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
@@ -249,7 +249,7 @@ fn dense_lattice(k: usize, seed: u64) -> PeriodicSpheres {
         min: Vec3::ZERO,
         max: Vec3::splat(side),
     };
-    PeriodicSpheres::new(cell, &spheres).unwrap()
+    ListedSpheres::periodic(cell, &spheres).unwrap()
 }
 
 /// A dense fluid (a lattice at packing 0.45 that melts): tens of thousands of collisions,

@@ -1,14 +1,15 @@
 //! Processing events: collisions (the elastic exchange through the pair's image), stale
-//! events, shell crossings.
+//! events, shell crossings, wall contacts.
 
-use super::{Kind, Motion, Period, PeriodicSpheres, Scheduled};
-use kinetic_core::elastic::Exchange;
+use super::{Kind, Motion, Period, ListedSpheres, Scheduled};
+use kinetic_core::FlightPlan;
+use kinetic_core::elastic::{Exchange, bounced};
 use kinetic_core::prefetch;
 use kinetic_core::{ContactEvent, ContactKind, ObjectId, WorldError};
 use kinetic_core::{Real, Vec3};
 
 /// Event kinds by index in `event_counts`, as the statistics name them.
-pub(super) const EVENT_NAMES: [&str; 4] = ["collision", "stale", "shell", "graze"];
+pub(super) const EVENT_NAMES: [&str; 5] = ["collision", "stale", "shell", "graze", "bounce"];
 
 /// The elastic exchange of two spheres touching at `now` through the image `shift`: their new
 /// velocities and the virial term `r_ab . dp_a` (mass `(2 r)^3`), or `None` when they are not
@@ -37,7 +38,7 @@ pub(super) fn wrapped(period: &Period, p: Vec3) -> (Vec3, Vec3) {
     }
 }
 
-impl PeriodicSpheres {
+impl ListedSpheres {
     /// Processes the next event if it is due by `until`; returns whether one was.
     pub fn step(&mut self, until: Real) -> Result<bool, WorldError> {
         let Some((id, time, next)) = self.queue.peek() else {
@@ -74,6 +75,14 @@ impl PeriodicSpheres {
             Kind::Shell => {
                 self.event_counts[2] += 1;
                 self.relist(id);
+                if self.walls.is_some() {
+                    self.wall[i] = self.wall_kept(id);
+                }
+                self.predict(id);
+            }
+            Kind::Wall => {
+                self.event_counts[4] += 1;
+                self.bounce(id);
                 self.predict(id);
             }
         }
@@ -149,8 +158,25 @@ impl PeriodicSpheres {
         }
     }
 
+    /// Sphere `id` reaches the wall of its wall certificate: its velocity across the wall is
+    /// reversed as the world's bounce reverses it, and the wall's impulse is counted.
+    fn bounce(&mut self, id: u32) {
+        let i = id as usize;
+        let Some(hit) = self.wall[i] else {
+            return;
+        };
+        let m = self.motion[i];
+        let plan = FlightPlan::linear(m.position, m.velocity).starting_at(m.t0);
+        let velocity = bounced(&plan, hit, self.now).velocity;
+        self.stats.bounces += 1;
+        let mass = (2.0 * m.radius).powi(3);
+        self.wall_impulse += mass * (velocity[hit.axis] - m.velocity[hit.axis]).abs();
+        self.replan(id, velocity);
+    }
+
     /// Sphere `id` moves on from now at `velocity`: its old predictions are stale. A start
-    /// outside the box is wrapped into it, and the list centre with it.
+    /// outside the box is wrapped into it, and the list centre with it; inside walls, its
+    /// wall certificate is made afresh.
     fn replan(&mut self, id: u32, velocity: Vec3) {
         let i = id as usize;
         let m = &mut self.motion[i];
@@ -164,6 +190,9 @@ impl PeriodicSpheres {
         self.counter[i] = self.counter[i].wrapping_add(1);
         if !self.skips.is_empty() {
             self.skips.remove(&id);
+        }
+        if self.walls.is_some() {
+            self.wall[i] = self.wall_kept(id);
         }
     }
 }
