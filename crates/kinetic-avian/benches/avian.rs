@@ -1,13 +1,18 @@
 //! avian3d 0.8's step with its own broad phase (BVH) and with the kinetic plugin, side by side
 //! in one run, on the rapier bench's standard scenes (`kinetic_scenes::engines::standard`:
 //! pile, rain, gas, debris, drift, burst, asleep, kinematic): whole step, broad-phase time
-//! (avian's `CollisionDiagnostics`) and pairs in the contact graph.
+//! (avian's `CollisionDiagnostics::broad_phase`, which avian resets at the start of every
+//! step), avian's collider-tree upkeep beside it (`ColliderTreeDiagnostics`: AABB and BVH
+//! updates and optimisation, paid on both sides, since spatial queries use the trees) and
+//! pairs in the contact graph. Each run makes one physics step first, then puts the scene's
+//! resting pieces to sleep as avian keeps them asleep (their islands), then times `S` steps.
 //!
 //! `cargo bench -p kinetic-avian --bench avian -- [N...] [--steps S] [--scenes pile,rain]
 //! [--repeat K] [--csv PATH]` (default N = 1000 10000, S = 120, every scene, K = 3). The two
 //! sides run K times, interleaved; each figure is the median of the K runs. Prints a markdown
 //! table and writes it as CSV (default `docs/results/avian.csv`).
 
+use avian3d::collider_tree::ColliderTreeDiagnostics;
 use avian3d::collision::CollisionDiagnostics;
 use avian3d::prelude::*;
 use bevy::prelude::*;
@@ -27,6 +32,7 @@ enum Side {
 struct Row {
     step_ms: f64,
     bp_ms: f64,
+    tree_ms: f64,
     pairs: f64,
     touching: f64,
 }
@@ -47,22 +53,21 @@ fn run(scene: &EngineScene, side: Side, steps: usize) -> Row {
         1.0 / 64.0,
     )));
     app.finish();
-    kinetic_scenes::avian::spawn(scene, app.world_mut());
-    // The first update sets the clocks: no physics step yet.
+    let entities = kinetic_scenes::avian::spawn(scene, app.world_mut());
+    // The first update sets the clocks: no physics step yet. The second is a step, which
+    // makes the islands the resting pieces then sleep in.
     app.update();
+    app.update();
+    kinetic_scenes::avian::put_to_sleep(scene, app.world_mut(), &entities);
     let mut row = Row::default();
-    let mut bp = Duration::ZERO;
+    let (mut bp, mut tree) = (Duration::ZERO, Duration::ZERO);
     let start = Instant::now();
     for _ in 0..steps {
-        let before = app.world().resource::<CollisionDiagnostics>().broad_phase;
         app.update();
-        let after = app.world().resource::<CollisionDiagnostics>().broad_phase;
-        // The diagnostics are reset at each step when avian's diagnostics plugin runs.
-        bp += if after >= before {
-            after - before
-        } else {
-            after
-        };
+        // Avian resets its diagnostics at the start of each step: these are this step's.
+        bp += app.world().resource::<CollisionDiagnostics>().broad_phase;
+        let t = app.world().resource::<ColliderTreeDiagnostics>();
+        tree += t.update + t.optimize;
         let graph = app.world().resource::<ContactGraph>();
         row.pairs += graph.iter_active().count() as f64;
         row.touching += graph.iter_active_touching().count() as f64;
@@ -70,6 +75,7 @@ fn run(scene: &EngineScene, side: Side, steps: usize) -> Row {
     let n = steps as f64;
     row.step_ms = start.elapsed().as_secs_f64() * 1e3 / n;
     row.bp_ms = bp.as_secs_f64() * 1e3 / n;
+    row.tree_ms = tree.as_secs_f64() * 1e3 / n;
     row.pairs /= n;
     row.touching /= n;
     row
@@ -106,11 +112,12 @@ fn main() {
     }
     println!("avian3d 0.8, {steps} steps at 64 Hz, median of {repeat} interleaved runs\n");
     println!(
-        "| scene | bodies | side | step (ms) | broad phase (ms) | pairs | touching | broad phase kinetic/avian | step kinetic/avian |"
+        "| scene | bodies | side | step (ms) | broad phase (ms) | collider trees (ms) | pairs | touching | broad phase kinetic/avian | step kinetic/avian |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|");
-    let mut lines =
-        vec!["scene,bodies,steps,side,step_ms,broad_phase_ms,pairs,touching".to_string()];
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    let mut lines = vec![
+        "scene,bodies,steps,side,step_ms,broad_phase_ms,collider_tree_ms,pairs,touching".to_string(),
+    ];
     for scene_name in &scenes {
         for &n in &ns {
             let scene = engines::standard(scene_name, n).unwrap_or_else(|| {
@@ -126,6 +133,7 @@ fn main() {
                 .map(|s| Row {
                     step_ms: med(s, |r| r.step_ms),
                     bp_ms: med(s, |r| r.bp_ms),
+                    tree_ms: med(s, |r| r.tree_ms),
                     pairs: med(s, |r| r.pairs),
                     touching: med(s, |r| r.touching),
                 })
@@ -142,14 +150,15 @@ fn main() {
                     " | ".to_string()
                 };
                 println!(
-                    "| {scene_name} | {n} | {side:?} | {:.2} | {:.3} | {:.0} | {:.0} | {ratio} |",
-                    r.step_ms, r.bp_ms, r.pairs, r.touching
+                    "| {scene_name} | {n} | {side:?} | {:.2} | {:.3} | {:.3} | {:.0} | {:.0} | {ratio} |",
+                    r.step_ms, r.bp_ms, r.tree_ms, r.pairs, r.touching
                 );
                 lines.push(format!(
-                    "{scene_name},{n},{steps},{},{:.3},{:.4},{:.0},{:.0}",
+                    "{scene_name},{n},{steps},{},{:.3},{:.4},{:.4},{:.0},{:.0}",
                     format!("{side:?}").to_lowercase(),
                     r.step_ms,
                     r.bp_ms,
+                    r.tree_ms,
                     r.pairs,
                     r.touching
                 ));

@@ -2,7 +2,9 @@
 //!
 //! The kinetic broad phase, engine by engine the same: colliders as proxies in a kinetic
 //! structure of `kinetic-flight`, bodies on flight plans fitted to the engine's integrator,
-//! and the pairs whose proxies can meet within the coming step handed to the engine. The
+//! the pairs whose proxies can meet within the coming step held, and of those the engine's
+//! own handed to it: the pairs whose boxes, as the engine grows them ([`Engine::bounds`]),
+//! swept over the step, meet. The
 //! adapters are thin: `kinetic-rapier` (rapier3d 0.27's `BroadPhase`) and `kinetic-avian`
 //! (a plugin for avian3d 0.8) each implement [`Engine`] over their engine's sets and turn
 //! [`PairEvent`]s into its pair events.
@@ -12,7 +14,9 @@
 //!   colliders' own boxes instead, where the engine gives them ([`Engine::bounds`]).
 //! - [`BroadPhaseCore`]: the proxies, the bodies' plans (a body that stays within its slack
 //!   keeps its plan; one that keeps re-planning has its slack grown), the structure's events
-//!   over each step in time order, and the pair book that turns candidates into events.
+//!   over each step in time order, the pair book that holds the candidates, and the pairs
+//!   handed to the engine among them ([`BroadPhaseStats::pairs`]; [`BroadPhaseCore::holds_pair`]
+//!   asks about the held ones).
 //! - Kinetic or stepped: where plans do not hold (a pile, a settling rain, a dense gas) the
 //!   core drops its structure and files every collider's box into a grid built afresh each
 //!   step, handing over the pairs whose boxes meet within it; it goes back to kinetic once

@@ -43,11 +43,12 @@
 //!
 //! rapier 0.27 calls the broad phase once at the start of each step (the user's changes,
 //! positions unchanged) and once after each position update. After a position update the
-//! structure is advanced one step ahead, through its own events in time order, so a pair is
-//! handed to rapier (`AddPair`) in the step during which the two proxies meet at any moment: a
-//! fast body cannot skip a pair between steps. Of the structure's candidates, rapier gets those
-//! whose two balls can meet within the window. A pair is deleted only once it has been out of
-//! the structure for a whole window, or its balls stay apart over a whole window, so never
+//! structure is advanced one step ahead, through its own events in time order, and the
+//! structure's candidates of the step are held. Of those, rapier gets its own pairs
+//! (`AddPair`): those whose boxes, grown by the prediction distance and contact skin as
+//! rapier grows them, each swept along its body's velocity over the step, meet, so a fast
+//! body cannot skip a pair between steps and the narrow phase gets no pair its own broad
+//! phase would not give it. A pair is deleted (`DeletePair`) once those boxes part, so never
 //! while the colliders touch or are within the prediction distance. The lower collider index
 //! comes first; a removed collider's pairs go
 //! without events (the narrow phase drops them itself). Same-body pairs and collision groups

@@ -565,3 +565,39 @@ fn kinematic_debris_in_fat_boxes_touches_as_with_the_default_broad_phase() {
         "fat boxes unused: {stats:?}"
     );
 }
+
+#[test]
+fn resting_crates_hand_the_narrow_phase_the_pairs_of_the_default() {
+    // 400 unit crates stacked 8 high in columns 0.1 apart, asleep, and two bodies dropped on
+    // them: the balls about the crates overlap every neighbour, their boxes only those above
+    // and below.
+    let make = || kinetic_scenes::rapier::standard("crates", 400).expect("a standard scene");
+    let (a, b) = (make(), make());
+    let mut default = Sim::new(a.bodies, a.colliders, 9.81, DefaultBroadPhase::new());
+    let mut ours = Sim::new(b.bodies, b.colliders, 9.81, kinetic());
+    let mut most = 0.0f64;
+    for step in 0..120 {
+        default.step();
+        ours.step();
+        ours.check(step);
+        let (want, got) = (
+            default.narrow.contact_pairs().count(),
+            ours.narrow.contact_pairs().count(),
+        );
+        most = most.max(got as f64 / want.max(1) as f64);
+        assert!(
+            got as f64 <= 1.05 * want as f64 + 2.0,
+            "step {step}: {got} pairs, the default {want}"
+        );
+        if step < 40 {
+            // Before the drops land nothing moves but them: the same contacts.
+            assert_eq!(default.touching(), ours.touching(), "step {step}");
+        }
+    }
+    let stats = ours.bp.inner.stats();
+    assert!(
+        stats.candidates > 2 * stats.pairs,
+        "the broad phase holds more than it hands over: {stats:?}"
+    );
+    println!("most pairs over the default's: {most:.3}x");
+}

@@ -5,7 +5,9 @@ use avian3d::prelude::*;
 use bevy::prelude::*;
 
 /// Spawns `scene`'s pieces into `world` (one entity each: a body with its collider) and sets
-/// avian's gravity; returns the entities in the scene's order.
+/// avian's gravity; returns the entities in the scene's order. Pieces that start asleep are
+/// spawned awake: avian wakes a body spawned `Sleeping` on its first step, before its islands
+/// are made; [`put_to_sleep`] puts them to sleep once a step has made them.
 pub fn spawn(scene: &EngineScene, world: &mut World) -> Vec<Entity> {
     world.insert_resource(Gravity(Vec3::from(scene.gravity)));
     scene
@@ -36,9 +38,6 @@ pub fn spawn(scene: &EngineScene, world: &mut World) -> Vec<Entity> {
             if !p.can_sleep {
                 e.insert(SleepingDisabled);
             }
-            if p.asleep {
-                e.insert(Sleeping);
-            }
             if let Some(r) = p.restitution {
                 e.insert(Restitution::new(r).with_combine_rule(CoefficientCombine::Max));
             }
@@ -48,4 +47,17 @@ pub fn spawn(scene: &EngineScene, world: &mut World) -> Vec<Entity> {
             e.id()
         })
         .collect()
+}
+
+/// Puts the scene's pieces that start asleep to sleep as avian keeps bodies asleep: each one's
+/// island, once a physics step has grouped the bodies into islands (`SleepBody`). `entities`
+/// are [`spawn`]'s.
+pub fn put_to_sleep(scene: &EngineScene, world: &mut World, entities: &[Entity]) {
+    use avian3d::dynamics::solver::islands::SleepBody;
+    for (p, &e) in scene.pieces.iter().zip(entities) {
+        if p.asleep && !p.fixed && !p.kinematic && !world.entity(e).contains::<Sleeping>() {
+            // A body without an island yet (none is made before the first step) stays awake.
+            let _ = SleepBody(e).apply(world);
+        }
+    }
 }

@@ -280,6 +280,43 @@ pub fn asleep(n: usize, seed: u64) -> EngineScene {
     scene(pieces, -9.81)
 }
 
+/// Crates: `n` unit boxes stacked 8 high in square columns 0.1 apart, created asleep, and
+/// one body in 200 (a box or a ball of radius 0.5) dropped onto them from 3 to 6 units above.
+/// A resting world whose boxes nearly touch on every side.
+pub fn crates(n: usize, seed: u64) -> EngineScene {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let columns = n.div_ceil(8);
+    let side = (columns as f64).sqrt().ceil() as usize;
+    let pitch = 1.1;
+    let half = side as f32 * pitch / 2.0;
+    let mut pieces = vec![ground(half + 2.0)];
+    let at = |c: usize| {
+        (
+            (c % side) as f32 * pitch - half + 0.55,
+            (c / side) as f32 * pitch - half + 0.55,
+        )
+    };
+    for k in 0..n {
+        let (x, z) = at(k / 8);
+        let y = 0.5 + (k % 8) as f32;
+        pieces.push(Piece {
+            asleep: true,
+            ..Piece::dynamic(PieceShape::Cuboid([0.5; 3]), [x, y, z])
+        });
+    }
+    for k in (0..n).step_by(200) {
+        let (x, z) = at(k / 8);
+        let y = 8.0 + rng.random_range(3.0..6.0);
+        let shape = if k % 400 == 0 {
+            PieceShape::Cuboid([0.5; 3])
+        } else {
+            PieceShape::Ball(0.5)
+        };
+        pieces.push(Piece::dynamic(shape, [x, y, z]));
+    }
+    scene(pieces, -9.81)
+}
+
 /// Many kinematic bodies: `n` balls and boxes (radii 0.2 to 0.5) moved by their velocities
 /// (up to 3 units per second) and spins through a cube sized for a volume fraction of about
 /// 3%, passing through each other; no gravity.
@@ -324,7 +361,7 @@ pub fn burst(n: usize, seed: u64) -> EngineScene {
 }
 
 /// The scene of `kind` (`pile`, `rain`, `gas`, `debris`, `drift`, `burst`, `asleep`,
-/// `kinematic`) with
+/// `kinematic`, `crates`) with
 /// `n` bodies, from the seed each bench uses.
 pub fn standard(kind: &str, n: usize) -> Option<EngineScene> {
     Some(match kind {
@@ -336,12 +373,13 @@ pub fn standard(kind: &str, n: usize) -> Option<EngineScene> {
         "burst" => burst(n, 17),
         "asleep" => asleep(n, 11),
         "kinematic" => kinematic(n, 13),
+        "crates" => crates(n, 23),
         _ => return None,
     })
 }
 
 /// The standard scenes' kinds, in the benches' order.
-pub const STANDARD: [&str; 8] = [
+pub const STANDARD: [&str; 9] = [
     "pile",
     "rain",
     "gas",
@@ -350,6 +388,7 @@ pub const STANDARD: [&str; 8] = [
     "burst",
     "asleep",
     "kinematic",
+    "crates",
 ];
 
 #[cfg(test)]

@@ -33,9 +33,10 @@ impl BroadPhaseCore {
             lag_reach: None,
             book: PairBook::default(),
             clock: Clock::default(),
-            emitted: (Real::NAN, Real::NAN),
             changes: Vec::new(),
             out: Vec::new(),
+            held_events: Vec::new(),
+            handed: Default::default(),
             stats: BroadPhaseStats::default(),
             step: StepStats::default(),
             audit: false,
@@ -88,7 +89,7 @@ impl BroadPhaseCore {
         if let Some(st) = &self.stepped {
             let (filings, refattened) = st.fat_counts();
             return BroadPhaseStats {
-                pairs: st.reported.len(),
+                pairs: self.handed.handed(),
                 candidates: st.reported.len(),
                 fat_filings: self.stats.fat_filings + filings,
                 refattened: self.stats.refattened + refattened,
@@ -96,7 +97,7 @@ impl BroadPhaseCore {
             };
         }
         BroadPhaseStats {
-            pairs: self.book.reported(),
+            pairs: self.handed.handed(),
             candidates: self.book.candidates(),
             ..self.stats
         }
@@ -119,6 +120,12 @@ impl BroadPhaseCore {
 
     /// Whether the engine has the pair of these two colliders by this broad phase.
     pub fn has_pair(&self, a: Key, b: Key) -> bool {
+        self.knows(a) && self.knows(b) && self.handed.has(a.index, b.index)
+    }
+
+    /// Whether the broad phase holds the pair of these two colliders: their proxies can
+    /// meet within the step (the engine has those of them whose boxes meet too).
+    pub fn holds_pair(&self, a: Key, b: Key) -> bool {
         if !(self.knows(a) && self.knows(b)) {
             return false;
         }

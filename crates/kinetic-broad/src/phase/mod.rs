@@ -8,6 +8,7 @@
 
 mod api;
 mod fat;
+mod handed;
 mod mode;
 mod plans;
 mod proxies;
@@ -150,10 +151,12 @@ pub struct BroadPhaseCore {
     lag_reach: Option<Real>,
     book: PairBook,
     clock: Clock,
-    /// The window of the last call that handed pairs over.
-    emitted: (Real, Real),
     changes: Vec<PairChange>,
     out: Vec<PairOut>,
+    /// The held pairs' events of the current call (a buffer), and which held pairs the
+    /// engine has.
+    held_events: Vec<crate::PairEvent>,
+    handed: handed::Handed,
     stats: BroadPhaseStats,
     step: StepStats,
     audit: bool,

@@ -507,15 +507,11 @@ impl BroadPhaseCore {
         let (Some(pa), Some(pb)) = (self.proxies[a as usize], self.proxies[b as usize]) else {
             return;
         };
-        if add {
-            self.stats.added += 1;
-            self.step.added += 1;
-            events.push(PairEvent::Add(pa.key, pb.key));
+        events.push(if add {
+            PairEvent::Add(pa.key, pb.key)
         } else {
-            self.stats.deleted += 1;
-            self.step.deleted += 1;
-            events.push(PairEvent::Delete(pa.key, pb.key));
-        }
+            PairEvent::Delete(pa.key, pb.key)
+        });
     }
 }
 

@@ -181,7 +181,6 @@ impl BroadPhaseCore {
                 let body = self.bodies[i as usize].as_mut().expect("held");
                 body.plan = plan;
                 self.plans[i as usize] = self.plans[i as usize].wrapping_add(1);
-                self.book.touch();
                 if let Some(s) = self.structure.as_mut() {
                     s.replan(i, &self.bodies, self.clock.kds, &mut self.changes);
                 }

@@ -94,7 +94,6 @@ impl BroadPhaseCore {
             *b = None;
         }
         self.plans[i as usize] = self.plans[i as usize].wrapping_add(1);
-        self.book.touch();
     }
 
     /// Puts collider `i` with `hold` into the structure at its clock, grown by `grow` (a
@@ -110,7 +109,6 @@ impl BroadPhaseCore {
         self.body_slots();
         self.bodies[i as usize] = Some(Body { shape, plan });
         self.plans[i as usize] = self.plans[i as usize].wrapping_add(1);
-        self.book.touch();
         if let Some(s) = self.structure.as_mut() {
             s.insert(i, &self.bodies, self.clock.kds, &mut self.changes);
         }
@@ -253,7 +251,6 @@ impl BroadPhaseCore {
                     });
                 }
                 self.plans[i] = self.plans[i].wrapping_add(1);
-                self.book.touch();
             }
             if let Some(s) = self.structure.as_mut() {
                 s.insert_many(&ids, &self.bodies, self.clock.kds, &mut self.changes);
@@ -292,7 +289,6 @@ impl BroadPhaseCore {
         self.structure = Some(s);
         self.stats.inserts += ids.len() as u64;
         self.step.inserts += ids.len() as u64;
-        self.book.touch();
         self.book.apply(&mut self.changes, self.clock.kds);
     }
 }

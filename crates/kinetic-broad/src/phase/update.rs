@@ -2,7 +2,7 @@
 //! over the coming step and the pairs handed over.
 
 use super::{BroadPhaseCore, StepStats};
-use crate::pairs::{Gate, PairOut, proxies_gate};
+use crate::pairs::PairOut;
 use crate::{Bound, ColliderStatus, Engine, EngineStep, Key, PairEvent};
 use kinetic_core::{FlightPlan, Real, Vec3};
 
@@ -11,8 +11,28 @@ impl BroadPhaseCore {
     /// unchanged) or after a position update of `step.dt` (the updates of one step together
     /// one step long). `modified`: the colliders added, changed or moved since the last call;
     /// `removed`: those removed (their pairs go without events). The pairs to add and delete
-    /// are pushed onto `events`, sorted.
+    /// are pushed onto `events`, sorted: the engine's own pairs, those whose boxes as the
+    /// engine grows them meet within the step (see `handed.rs`).
     pub fn update(
+        &mut self,
+        step: EngineStep,
+        engine: &impl Engine,
+        modified_colliders: &[Key],
+        removed_colliders: &[Key],
+        events: &mut Vec<PairEvent>,
+    ) {
+        let mut held = std::mem::take(&mut self.held_events);
+        held.clear();
+        let starts = !self.clock.in_step;
+        self.update_held(step, engine, modified_colliders, removed_colliders, &mut held);
+        let changed = (modified_colliders, removed_colliders);
+        self.hand_over(engine, &held, changed, starts, events);
+        self.held_events = held;
+    }
+
+    /// [`BroadPhaseCore::update`] up to the pairs the broad phase holds: their adds and
+    /// deletes go to `events`.
+    fn update_held(
         &mut self,
         step: EngineStep,
         engine: &impl Engine,
@@ -245,25 +265,8 @@ impl BroadPhaseCore {
         self.advance(self.clock.pos + self.clock.dt);
         self.adopt(events);
 
-        // The start of a step with no change since the last call: nothing new to hand over.
-        let window = (self.clock.pos, self.clock.kds);
-        if !starts_step || self.book.take_changed() || window != self.emitted {
-            let (bodies, plans, clock) = (&self.bodies, &self.plans, self.clock);
-            self.book.emit(
-                clock.pos,
-                clock.kds,
-                |a, b| match (&bodies[a as usize], &bodies[b as usize]) {
-                    (Some(x), Some(y)) => proxies_gate(x, y, clock.pos, clock.kds),
-                    _ => Gate {
-                        meet: true,
-                        wake: Real::NEG_INFINITY,
-                    },
-                },
-                |i| plans[i as usize],
-                &mut self.out,
-            );
-            self.emitted = window;
-        }
+        // The pairs the structure changed since the last call (none: nothing to look at).
+        self.book.emit(self.clock.pos, &mut self.out);
         let out = std::mem::take(&mut self.out);
         for &o in &out {
             match o {
@@ -297,7 +300,7 @@ impl BroadPhaseCore {
             if self.audit && self.audit_error.is_none() {
                 let r = s
                     .validate(&self.bodies, next)
-                    .and_then(|_| self.book.audit(false, |_, _| true));
+                    .and_then(|_| self.book.audit(false));
                 if let Err(e) = r {
                     self.audit_error = Some(format!("after the event at {next}: {e}"));
                 }

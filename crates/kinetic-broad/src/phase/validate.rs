@@ -1,15 +1,15 @@
 //! The audit: the invariants recomputed from scratch.
 
-use super::{BroadPhaseCore, Clock, Proxy};
-use crate::pairs::proxies_meet;
+use super::{BroadPhaseCore, Proxy};
 use crate::{Bound, ColliderStatus, Engine, Key};
-use kinetic_core::{Body, Vec3};
+use kinetic_core::Vec3;
 
 impl BroadPhaseCore {
     /// Recomputes the invariants from scratch, between calls: the structure's own and the
     /// pair book's (kinetic), or every pair of colliders whose boxes overlap handed over
-    /// (stepped); every enabled collider of `colliders` (all the engine has) held, and
-    /// (kinetic) every moving body within its slack of its plan.
+    /// (stepped); the engine's pairs: every held pair whose engine boxes overlap handed
+    /// over, and none that is not held; every enabled collider of `colliders` (all the engine
+    /// has) held, and (kinetic) every moving body within its slack of its plan.
     pub fn validate(
         &self,
         engine: &impl Engine,
@@ -22,9 +22,14 @@ impl BroadPhaseCore {
                 s.validate(&self.bodies, self.clock.kds)?;
             }
             self.book
-                .audit(true, meet(&self.bodies, self.clock))
+                .audit(true)
                 .map_err(|e| format!("{e}; window {} to {}", self.clock.pos, self.clock.kds))?;
         }
+        let held = match &self.stepped {
+            Some(st) => st.reported.clone(),
+            None => self.book.reported_pairs(),
+        };
+        self.check_handed(engine, &held)?;
         for h in colliders {
             if matches!(engine.collider(h, self.slack), ColliderStatus::Held(_)) && !self.knows(h) {
                 return Err(format!("collider {h:?} is not held"));
@@ -102,11 +107,35 @@ impl BroadPhaseCore {
     }
 }
 
-/// Whether the proxies of colliders `a` and `b` can meet within the window from the positions'
-/// time to the structure's (a missing proxy: yes).
-fn meet(bodies: &[Option<Body>], clock: Clock) -> impl Fn(u32, u32) -> bool + '_ {
-    move |a, b| match (&bodies[a as usize], &bodies[b as usize]) {
-        (Some(x), Some(y)) => proxies_meet(x, y, clock.pos, clock.kds),
-        _ => true,
+impl BroadPhaseCore {
+    /// The engine's pairs are the held pairs (`held`, sorted) whose engine boxes meet: every
+    /// held pair whose boxes overlap now is handed over, and every handed pair is held.
+    fn check_handed(&self, engine: &impl Engine, held: &[(u32, u32)]) -> Result<(), String> {
+        self.validate_handed()?;
+        let key = |i: u32| self.proxies[i as usize].map(|p| p.key);
+        let mut handed = 0;
+        for &(a, b) in held {
+            let (Some(ka), Some(kb)) = (key(a), key(b)) else {
+                continue;
+            };
+            let has = self.has_pair(ka, kb);
+            handed += usize::from(has);
+            if let (Some(x), Some(y)) = (engine.bounds(ka), engine.bounds(kb))
+                && x.0.cmple(y.1).all()
+                && y.0.cmple(x.1).all()
+                && !has
+            {
+                return Err(format!(
+                    "colliders {a} and {b}: held, their boxes overlap, not handed to the engine"
+                ));
+            }
+        }
+        if handed != self.handed.handed() {
+            return Err(format!(
+                "{} pairs handed to the engine, {handed} of them held",
+                self.handed.handed()
+            ));
+        }
+        Ok(())
     }
 }

@@ -1,0 +1,320 @@
+//! The engine's own pairs: of the pairs the broad phase holds (its proxies can meet within the
+//! step), the engine gets those whose boxes, as the engine grows them ([`Engine::bounds`]),
+//! meet within the step, each swept along its body's velocity over the step. A proxy is a
+//! ball about a body that holds its collider at every orientation, a fat box, or a region of
+//! a grid: filters inside the broad phase, never pairs of the engine. A pair held but not
+//! handed is looked at again when one of its colliders moves; a resting world costs nothing.
+//!
+//! Every contact the engine can make is between colliders whose boxes, grown by its margins,
+//! overlap: so the engine keeps every contact its own broad phase would give it. A stepped
+//! world's pairs are already those of the boxes swept over the step: they pass as they are.
+
+use super::BroadPhaseCore;
+use crate::{Bound, Engine, Key, PairEvent};
+use kinetic_core::{Real, Vec3};
+use smallvec::SmallVec;
+
+/// One end of a held pair, kept by the other collider: this collider's index and key, and
+/// whether the engine has the pair.
+#[derive(Clone, Copy, Debug)]
+struct Link {
+    other: u32,
+    key: Key,
+    handed: bool,
+}
+
+/// The pairs the broad phase holds, as links per collider (both ends), and which of them the
+/// engine has.
+#[derive(Debug, Default)]
+pub(super) struct Handed {
+    links: Vec<SmallVec<[Link; 6]>>,
+    /// Pairs held, and those of them the engine has.
+    held: usize,
+    handed: usize,
+    /// The call's number, and per collider the call whose swept box `boxes` holds and the
+    /// call that looked at its pairs.
+    call: u32,
+    boxes: Vec<(u32, (Vec3, Vec3))>,
+    looked: Vec<u32>,
+}
+
+impl Handed {
+    /// The pairs the engine has.
+    pub(super) fn handed(&self) -> usize {
+        self.handed
+    }
+
+    /// Where collider `b` is among `a`'s links.
+    fn find(&self, a: u32, b: u32) -> Option<usize> {
+        self.links.get(a as usize)?.iter().position(|l| l.other == b)
+    }
+
+    /// Whether the engine has the pair of colliders `a` and `b`.
+    pub(super) fn has(&self, a: u32, b: u32) -> bool {
+        self.find(a, b)
+            .is_some_and(|at| self.links[a as usize][at].handed)
+    }
+
+    /// Makes room for collider index `i`.
+    fn reach(&mut self, i: u32) {
+        let need = i as usize + 1;
+        if self.links.len() < need {
+            self.links.resize(need, SmallVec::new());
+            self.boxes.resize(need, (0, (Vec3::ZERO, Vec3::ZERO)));
+            self.looked.resize(need, 0);
+        }
+    }
+
+    /// Holds the pair `a`, `b` (not handed); a pair already held takes the new keys.
+    /// Returns whether the engine has it.
+    fn hold(&mut self, a: Key, b: Key) -> bool {
+        self.reach(a.index.max(b.index));
+        let mut had = false;
+        for (x, y) in [(a, b), (b, a)] {
+            let list = &mut self.links[x.index as usize];
+            match list.iter_mut().find(|l| l.other == y.index) {
+                Some(l) => {
+                    l.key = y;
+                    had = l.handed;
+                }
+                None => {
+                    list.push(Link {
+                        other: y.index,
+                        key: y,
+                        handed: false,
+                    });
+                    self.held += usize::from(x.index < y.index);
+                }
+            }
+        }
+        had
+    }
+
+    /// Lets the pair `a`, `b` go; returns whether the engine had it.
+    fn let_go(&mut self, a: u32, b: u32) -> bool {
+        let mut had = false;
+        for (x, y) in [(a, b), (b, a)] {
+            if let Some(at) = self.find(x, y) {
+                had = self.links[x as usize].swap_remove(at).handed;
+                self.held -= usize::from(x < y);
+            }
+        }
+        self.handed -= usize::from(had);
+        had
+    }
+
+    /// Marks whether the engine has the pair `a`, `b`, at both ends.
+    fn set(&mut self, a: u32, b: u32, handed: bool) {
+        for (x, y) in [(a, b), (b, a)] {
+            if let Some(at) = self.find(x, y) {
+                self.links[x as usize][at].handed = handed;
+            }
+        }
+        if handed {
+            self.handed += 1;
+        } else {
+            self.handed -= 1;
+        }
+    }
+
+    /// Forgets every pair of collider `i` without events (it was removed: the engine drops
+    /// its pairs itself).
+    fn forget(&mut self, i: u32) {
+        let Some(list) = self.links.get_mut(i as usize) else {
+            return;
+        };
+        for l in std::mem::take(list) {
+            self.handed -= usize::from(l.handed);
+            self.held -= 1;
+            if let Some(at) = self.find(l.other, i) {
+                self.links[l.other as usize].swap_remove(at);
+            }
+        }
+    }
+}
+
+impl BroadPhaseCore {
+    /// Turns the structure's pair events of this call (`held`: the pairs its proxies can
+    /// meet within the step) into the engine's: the pairs whose engine boxes meet within the
+    /// step. `moved`: the colliders added, changed or moved (at the start of a step,
+    /// `starts`, those the update dropped, being disabled, lose their pairs without events);
+    /// `removed`: those removed.
+    pub(super) fn hand_over(
+        &mut self,
+        engine: &impl Engine,
+        held: &[PairEvent],
+        (moved, removed): (&[Key], &[Key]),
+        starts: bool,
+        events: &mut Vec<PairEvent>,
+    ) {
+        let mut h = std::mem::take(&mut self.handed);
+        h.call = h.call.wrapping_add(1).max(1);
+        let stepped = self.is_stepped();
+        // Removed colliders, and those the update dropped (disabled): their pairs go as
+        // the structure's went, without events.
+        let dropped = moved.iter().filter(|&&c| starts && !self.knows(c));
+        for &c in removed.iter().chain(dropped) {
+            h.forget(c.index);
+        }
+        for &e in held {
+            match e {
+                PairEvent::Add(a, b) => {
+                    let had = h.hold(a, b);
+                    if stepped {
+                        // A stepped world's pairs are already those of the swept boxes.
+                        if !had {
+                            h.set(a.index, b.index, true);
+                            self.count_event(true);
+                            events.push(PairEvent::Add(a, b));
+                        }
+                    } else {
+                        self.look_at(&mut h, engine, a, b, had, events);
+                    }
+                }
+                PairEvent::Delete(a, b) => {
+                    if h.let_go(a.index, b.index) {
+                        self.count_event(false);
+                        events.push(PairEvent::Delete(a, b));
+                    }
+                }
+            }
+        }
+        // The held pairs of each moved collider, each pair once (in a stepped world, those
+        // the engine does not have, if any).
+        if stepped && h.held == h.handed {
+            events.sort_unstable();
+            self.handed = h;
+            return;
+        }
+        let call = h.call;
+        for &c in moved {
+            if (c.index as usize) < h.looked.len() {
+                h.looked[c.index as usize] = call;
+            }
+        }
+        for &c in moved {
+            let i = c.index as usize;
+            if i >= h.links.len() || !self.knows(c) {
+                continue;
+            }
+            let mut k = 0;
+            while k < h.links[i].len() {
+                let l = h.links[i][k];
+                k += 1;
+                // A pair of two moved colliders is looked at from its lower end; in a stepped
+                // world, only the pairs held from before that the engine does not have.
+                if (h.looked[l.other as usize] == call && l.other < c.index)
+                    || (stepped && l.handed)
+                {
+                    continue;
+                }
+                self.look_at(&mut h, engine, c, l.key, l.handed, events);
+            }
+        }
+        events.sort_unstable();
+        self.handed = h;
+    }
+
+    /// Hands the held pair `a`, `b` (which the engine has if `had`) to the engine, or takes
+    /// it back, as their swept boxes meet or not.
+    fn look_at(
+        &mut self,
+        h: &mut Handed,
+        engine: &impl Engine,
+        a: Key,
+        b: Key,
+        had: bool,
+        events: &mut Vec<PairEvent>,
+    ) {
+        let (x, y) = (self.box_of(h, engine, a), self.box_of(h, engine, b));
+        let meet = x.0.cmple(y.1).all() && y.0.cmple(x.1).all();
+        if meet != had {
+            h.set(a.index, b.index, meet);
+            self.count_event(meet);
+            let (a, b) = if a.index < b.index { (a, b) } else { (b, a) };
+            events.push(if meet {
+                PairEvent::Add(a, b)
+            } else {
+                PairEvent::Delete(a, b)
+            });
+        }
+    }
+
+    /// Collider `c`'s swept box in this call, worked out once.
+    fn box_of(&self, h: &mut Handed, engine: &impl Engine, c: Key) -> (Vec3, Vec3) {
+        let i = c.index as usize;
+        if h.boxes[i].0 != h.call {
+            h.boxes[i] = (h.call, self.swept_bounds(engine, c, self.clock.dt));
+        }
+        h.boxes[i].1
+    }
+
+    /// Collider `c`'s box as the engine grows it (for an engine that gives no boxes, the
+    /// ball of its hold about its body's centre, or a fixed collider's own box), swept along
+    /// its body's velocity over `dt` (a sleeping body's as it is); everywhere when unknown.
+    fn swept_bounds(&self, engine: &impl Engine, c: Key, dt: Real) -> (Vec3, Vec3) {
+        let everywhere = (Vec3::NEG_INFINITY, Vec3::INFINITY);
+        let hold = self.proxies.get(c.index as usize).copied().flatten();
+        let (state, own) = match hold.map(|p| p.hold) {
+            Some(Bound::Moving { body, radius, .. }) => {
+                let state = engine.body(body);
+                let own = engine.bounds(c).or_else(|| {
+                    let r = Vec3::splat(radius);
+                    state.map(|s| (s.centre - r, s.centre + r))
+                });
+                (state, own)
+            }
+            Some(Bound::Fixed { min, max }) => {
+                (None, Some(engine.bounds(c).unwrap_or((min, max))))
+            }
+            None => (None, engine.bounds(c)),
+        };
+        let Some((lo, hi)) = own else {
+            return everywhere;
+        };
+        let v = state
+            .filter(|s| !s.sleeping)
+            .map_or(Vec3::ZERO, |s| s.velocity);
+        let d = v * dt;
+        if !d.is_finite() {
+            return everywhere;
+        }
+        (lo.min(lo + d), hi.max(hi + d))
+    }
+
+    /// Counts a pair added to or deleted from the engine.
+    fn count_event(&mut self, add: bool) {
+        if add {
+            self.stats.added += 1;
+            self.step.added += 1;
+        } else {
+            self.stats.deleted += 1;
+            self.step.deleted += 1;
+        }
+    }
+
+    /// Checks the engine's pairs against themselves (for tests): links at both ends, with
+    /// the same answer, and the count of pairs handed.
+    pub(super) fn validate_handed(&self) -> Result<(), String> {
+        let h = &self.handed;
+        let mut handed = 0;
+        for (a, list) in h.links.iter().enumerate() {
+            for l in list {
+                let back = h.find(l.other, a as u32).map(|at| h.links[l.other as usize][at]);
+                match back {
+                    Some(m) if m.handed == l.handed => {}
+                    _ => return Err(format!("handed: pair ({a}, {}) not linked back", l.other)),
+                }
+                handed += usize::from(l.handed && (a as u32) < l.other);
+            }
+        }
+        if handed != h.handed {
+            return Err(format!("handed: {handed} pairs handed, {} counted", h.handed));
+        }
+        let held = h.links.iter().map(|l| l.len()).sum::<usize>() / 2;
+        if held != h.held {
+            return Err(format!("handed: {held} pairs held, {} counted", h.held));
+        }
+        Ok(())
+    }
+}
