@@ -116,7 +116,8 @@ fn main() {
     );
     println!("|---|---|---|---|---|---|---|---|---|---|");
     let mut lines = vec![
-        "scene,bodies,steps,side,step_ms,broad_phase_ms,collider_tree_ms,pairs,touching".to_string(),
+        "scene,bodies,steps,side,step_ms,broad_phase_ms,collider_tree_ms,pairs,touching"
+            .to_string(),
     ];
     for scene_name in &scenes {
         for &n in &ns {

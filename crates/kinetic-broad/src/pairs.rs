@@ -8,8 +8,8 @@
 //! positions' time and has not come back. A call costs in proportion to the pairs the
 //! structure changed since the last one: a resting world costs nothing.
 
-use kinetic_core::kds::{PairChange, ordered_pair};
 use kinetic_core::Real;
+use kinetic_core::kds::{PairChange, ordered_pair};
 use rustc_hash::FxHashMap;
 
 /// One pair's state.
@@ -145,7 +145,9 @@ impl PairBook {
                 return Err(format!("pair ({a}, {b}): count {}", e.count));
             }
             if settled && e.count > 0 && !e.reported {
-                return Err(format!("pair ({a}, {b}) is a candidate the book does not hold"));
+                return Err(format!(
+                    "pair ({a}, {b}) is a candidate the book does not hold"
+                ));
             }
             reported += usize::from(e.reported);
         }

@@ -258,6 +258,9 @@ fn run_chooses_lists_for_spheres_of_one_size_and_logs_what_the_grid_logs() {
         let eta = packing;
         let cs = (1.0 + eta + eta * eta - eta.powi(3)) / (1.0 - eta).powi(3);
         let z = bulk.bulk.compressibility;
-        assert!((z / cs - 1.0).abs() < 0.2, "packing {packing}: Z = {z}, CS {cs}");
+        assert!(
+            (z / cs - 1.0).abs() < 0.2,
+            "packing {packing}: Z = {z}, CS {cs}"
+        );
     }
 }

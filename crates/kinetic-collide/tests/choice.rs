@@ -32,6 +32,13 @@ fn the_default_applies_takes_every_branch_and_matches_the_brute_force() {
     // The family exercises every branch of the rule.
     assert_eq!(
         picked.into_iter().collect::<Vec<_>>(),
-        ["brute-force", "cells", "grid", "lists", "loose-grid", "sweep"]
+        [
+            "brute-force",
+            "cells",
+            "grid",
+            "lists",
+            "loose-grid",
+            "sweep"
+        ]
     );
 }

@@ -3,7 +3,7 @@
 //! dilute gases to dense fluids melted from a lattice.
 
 use kinetic_collide::FlightPlan;
-use kinetic_collide::spheres::{PeriodicBox, ListedSpheres};
+use kinetic_collide::spheres::{ListedSpheres, PeriodicBox};
 use kinetic_scenes::hard_spheres::HardSpheres;
 use std::f64::consts::PI;
 

@@ -8,7 +8,7 @@
 //! Enskog's rate.
 
 use kinetic_core::{FlightPlan, Vec3};
-use kinetic_spheres::{PeriodicBox, ListedSpheres};
+use kinetic_spheres::{ListedSpheres, PeriodicBox};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};

@@ -46,7 +46,10 @@ impl Handed {
 
     /// Where collider `b` is among `a`'s links.
     fn find(&self, a: u32, b: u32) -> Option<usize> {
-        self.links.get(a as usize)?.iter().position(|l| l.other == b)
+        self.links
+            .get(a as usize)?
+            .iter()
+            .position(|l| l.other == b)
     }
 
     /// Whether the engine has the pair of colliders `a` and `b`.
@@ -264,9 +267,7 @@ impl BroadPhaseCore {
                 });
                 (state, own)
             }
-            Some(Bound::Fixed { min, max }) => {
-                (None, Some(engine.bounds(c).unwrap_or((min, max))))
-            }
+            Some(Bound::Fixed { min, max }) => (None, Some(engine.bounds(c).unwrap_or((min, max)))),
             None => (None, engine.bounds(c)),
         };
         let Some((lo, hi)) = own else {
@@ -300,7 +301,9 @@ impl BroadPhaseCore {
         let mut handed = 0;
         for (a, list) in h.links.iter().enumerate() {
             for l in list {
-                let back = h.find(l.other, a as u32).map(|at| h.links[l.other as usize][at]);
+                let back = h
+                    .find(l.other, a as u32)
+                    .map(|at| h.links[l.other as usize][at]);
                 match back {
                     Some(m) if m.handed == l.handed => {}
                     _ => return Err(format!("handed: pair ({a}, {}) not linked back", l.other)),
@@ -309,7 +312,10 @@ impl BroadPhaseCore {
             }
         }
         if handed != h.handed {
-            return Err(format!("handed: {handed} pairs handed, {} counted", h.handed));
+            return Err(format!(
+                "handed: {handed} pairs handed, {} counted",
+                h.handed
+            ));
         }
         let held = h.links.iter().map(|l| l.len()).sum::<usize>() / 2;
         if held != h.held {

@@ -24,7 +24,13 @@ impl BroadPhaseCore {
         let mut held = std::mem::take(&mut self.held_events);
         held.clear();
         let starts = !self.clock.in_step;
-        self.update_held(step, engine, modified_colliders, removed_colliders, &mut held);
+        self.update_held(
+            step,
+            engine,
+            modified_colliders,
+            removed_colliders,
+            &mut held,
+        );
         let changed = (modified_colliders, removed_colliders);
         self.hand_over(engine, &held, changed, starts, events);
         self.held_events = held;

@@ -27,6 +27,29 @@ pub struct MeasuredBulk {
     pub from: f64,
 }
 
+/// The output of a whole-scene run on `structure`: its statistics and the structure's own
+/// counters, its bulk figures, and the wall time since `start` (events go to the stream).
+fn whole_run(
+    scene: &Scene,
+    structure: Structure,
+    (stats, structure_stats): (kinetic_core::Stats, Vec<(&'static str, f64)>),
+    bulk: Option<MeasuredBulk>,
+    start: Instant,
+) -> RunOutput {
+    RunOutput {
+        structure,
+        race: Vec::new(),
+        objects: scene.objects.len(),
+        horizon: scene.horizon,
+        events: Vec::new(),
+        interrupted: None,
+        stats,
+        structure_stats,
+        bulk,
+        wall_seconds: start.elapsed().as_secs_f64(),
+    }
+}
+
 /// Runs a scene on the cell grid.
 pub(super) fn run_cells(
     scene: &Scene,
@@ -43,18 +66,13 @@ pub(super) fn run_cells(
     let mut cells =
         ElasticCells::new(walls, &balls).map_err(|e| RunError::Input(format!("objects: {e}")))?;
     let result = drive(&mut cells, scene.horizon, stream);
-    let output = RunOutput {
-        structure: Structure::Cells,
-        race: Vec::new(),
-        objects: scene.objects.len(),
-        horizon: scene.horizon,
-        events: Vec::new(),
-        interrupted: None,
-        stats: cells.stats().clone(),
-        structure_stats: cells.counters(),
-        bulk: None,
-        wall_seconds: start.elapsed().as_secs_f64(),
-    };
+    let output = whole_run(
+        scene,
+        Structure::Cells,
+        (cells.stats().clone(), cells.counters()),
+        None,
+        start,
+    );
     output.finish(result, cells.now())
 }
 
@@ -75,18 +93,13 @@ pub(super) fn run_listed(
     let mut gas = ListedSpheres::in_walls(walls, &balls)
         .map_err(|e| RunError::Input(format!("objects: {e}")))?;
     let (result, measured) = measure(&mut gas, scene.horizon, 0.0, stream);
-    let output = RunOutput {
-        structure: Structure::Lists,
-        race: Vec::new(),
-        objects: scene.objects.len(),
-        horizon: scene.horizon,
-        events: Vec::new(),
-        interrupted: None,
-        stats: gas.stats(),
-        structure_stats: gas.counters(),
-        bulk: measured,
-        wall_seconds: start.elapsed().as_secs_f64(),
-    };
+    let output = whole_run(
+        scene,
+        Structure::Lists,
+        (gas.stats(), gas.counters()),
+        measured,
+        start,
+    );
     output.finish(result, gas.now())
 }
 
@@ -110,21 +123,16 @@ pub(super) fn run_periodic(
             scene.horizon
         )));
     }
-    let mut gas =
-        ListedSpheres::periodic(cell, &balls).map_err(|e| RunError::Input(format!("objects: {e}")))?;
+    let mut gas = ListedSpheres::periodic(cell, &balls)
+        .map_err(|e| RunError::Input(format!("objects: {e}")))?;
     let (result, measured) = measure(&mut gas, scene.horizon, measure_from, stream);
-    let output = RunOutput {
-        structure: Structure::Periodic,
-        race: Vec::new(),
-        objects: scene.objects.len(),
-        horizon: scene.horizon,
-        events: Vec::new(),
-        interrupted: None,
-        stats: gas.stats(),
-        structure_stats: gas.counters(),
-        bulk: measured,
-        wall_seconds: start.elapsed().as_secs_f64(),
-    };
+    let output = whole_run(
+        scene,
+        Structure::Periodic,
+        (gas.stats(), gas.counters()),
+        measured,
+        start,
+    );
     output.finish(result, gas.now())
 }
 

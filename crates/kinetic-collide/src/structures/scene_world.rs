@@ -21,9 +21,9 @@ pub(crate) const LISTED_SPREAD: f64 = 2.0;
 /// [`wall_balls`]), the largest at most [`LISTED_SPREAD`] times the smallest.
 pub(crate) fn listed_balls(scene: &Scene) -> Option<(Walls, Vec<(f64, FlightPlan)>)> {
     let (walls, balls) = wall_balls(scene)?;
-    let (lo, hi) = balls
-        .iter()
-        .fold((f64::INFINITY, 0.0f64), |(lo, hi), b| (lo.min(b.0), hi.max(b.0)));
+    let (lo, hi) = balls.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), b| {
+        (lo.min(b.0), hi.max(b.0))
+    });
     (hi <= LISTED_SPREAD * lo).then_some((walls, balls))
 }
 

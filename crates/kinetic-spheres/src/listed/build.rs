@@ -5,7 +5,7 @@ use super::calendar::Calendar;
 use super::grid::CentreGrid;
 use super::lists::Lists;
 use super::runners::SavedRunners;
-use super::{ListCentre, NEIGHBOURS, Period, PeriodicBox, ListedSpheres, SHELL, SLACK};
+use super::{ListCentre, ListedSpheres, NEIGHBOURS, Period, PeriodicBox, SHELL, SLACK};
 use kinetic_core::FlightPlan;
 use kinetic_core::elastic::Motion;
 use kinetic_core::elastic::ZenoGuard;
@@ -74,7 +74,8 @@ impl ListedSpheres {
         }
         for (i, (r, plan)) in spheres.iter().enumerate() {
             let p = plan.position_at(plan.t0);
-            if r.is_finite() && !((p - *r).cmpge(walls.min).all() && (p + *r).cmple(walls.max).all())
+            if r.is_finite()
+                && !((p - *r).cmpge(walls.min).all() && (p + *r).cmple(walls.max).all())
             {
                 return Err(invalid(format!(
                     "object {i}: ball at {p:?} of radius {r} is not inside the walls"
@@ -89,7 +90,11 @@ impl ListedSpheres {
         walls: Option<Walls>,
         spheres: &[(Real, FlightPlan)],
     ) -> Result<Self, WorldError> {
-        let what = if walls.is_some() { "walls" } else { "periodic box" };
+        let what = if walls.is_some() {
+            "walls"
+        } else {
+            "periodic box"
+        };
         let cell = PeriodicBox {
             min: period.min,
             max: period.min + period.side,

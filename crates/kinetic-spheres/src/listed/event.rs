@@ -1,7 +1,7 @@
 //! Processing events: collisions (the elastic exchange through the pair's image), stale
 //! events, shell crossings, wall contacts.
 
-use super::{Kind, Motion, Period, ListedSpheres, Scheduled};
+use super::{Kind, ListedSpheres, Motion, Period, Scheduled};
 use kinetic_core::FlightPlan;
 use kinetic_core::elastic::{Exchange, bounced};
 use kinetic_core::prefetch;

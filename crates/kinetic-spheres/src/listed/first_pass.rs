@@ -3,7 +3,7 @@
 //! bound. On x86-64 processors with AVX (found at run time) the pairs go four at a time in
 //! AVX lanes, each lane with the scalar pass's operations in order; elsewhere one at a time.
 
-use super::{Motion, ListedSpheres};
+use super::{ListedSpheres, Motion};
 #[cfg(target_arch = "x86_64")]
 use kinetic_core::prefetch;
 use kinetic_core::{Real, Vec3};

@@ -49,7 +49,7 @@ fn energy(gas: &ListedSpheres) -> Real {
 }
 
 /// Runs `gas` to `t`, validating after every event.
-fn run(gas: &mut ListedSpheres, t: Real) -> Vec<ContactEvent> {
+pub(super) fn run(gas: &mut ListedSpheres, t: Real) -> Vec<ContactEvent> {
     gas.validate().unwrap();
     while gas.step(t).unwrap() {
         gas.validate()

@@ -45,7 +45,9 @@ impl ListedSpheres {
                     return Err(format!("walls: sphere {i} at {at:?} is through a wall"));
                 }
                 if self.wall[i as usize] != self.wall_kept(i) {
-                    return Err(format!("walls: sphere {i}'s wall certificate is not its plan's"));
+                    return Err(format!(
+                        "walls: sphere {i}'s wall certificate is not its plan's"
+                    ));
                 }
                 // A sphere far from the walls reaches its shell first.
                 if self.wall[i as usize].is_none()

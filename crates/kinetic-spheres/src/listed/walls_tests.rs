@@ -1,6 +1,7 @@
 //! The listed spheres inside walls against the world's brute force with the same walls, event
 //! by event and bit for bit, with `validate()` after every event.
 
+use super::tests::run;
 use super::*;
 use kinetic_core::{BruteForce, FlightPlan, Response, Simulator, WorldKind};
 use rand::{Rng, SeedableRng};
@@ -54,17 +55,6 @@ fn world_log(walls: Walls, balls: &[(Real, FlightPlan)], until: Real) -> (Vec<Co
     (world.drain_events(), world.stats().bounces)
 }
 
-/// Runs `gas` to `t`, validating after every event.
-fn run(gas: &mut ListedSpheres, t: Real) -> Vec<ContactEvent> {
-    gas.validate().unwrap();
-    while gas.step(t).unwrap() {
-        gas.validate()
-            .unwrap_or_else(|e| panic!("at {}: {e}", gas.now()));
-    }
-    gas.advance_to(t).unwrap();
-    gas.drain_events()
-}
-
 #[test]
 fn balls_inside_walls_give_the_worlds_log_bit_for_bit() {
     // Boxes from a few diameters wide (one cell per axis, every ball near a wall) to wide
@@ -72,7 +62,12 @@ fn balls_inside_walls_give_the_worlds_log_bit_for_bit() {
     let cases = [
         (Vec3::ZERO, Vec3::new(3.0, 4.0, 2.5), 12, (0.3, 0.3)),
         (Vec3::splat(-5.0), Vec3::splat(5.0), 150, (0.25, 0.5)),
-        (Vec3::new(1e4, -3.0, 0.0), Vec3::new(1e4 + 9.0, 6.0, 7.0), 120, (0.4, 0.4)),
+        (
+            Vec3::new(1e4, -3.0, 0.0),
+            Vec3::new(1e4 + 9.0, 6.0, 7.0),
+            120,
+            (0.4, 0.4),
+        ),
         (Vec3::ZERO, Vec3::new(20.0, 3.0, 3.0), 90, (0.2, 0.4)),
     ];
     for (seed, &(min, max, n, radii)) in cases.iter().enumerate() {
@@ -81,7 +76,11 @@ fn balls_inside_walls_give_the_worlds_log_bit_for_bit() {
         let (expected, bounces) = world_log(walls, &balls, 15.0);
         let mut gas = ListedSpheres::in_walls(walls, &balls).unwrap();
         let got = run(&mut gas, 15.0);
-        assert!(expected.len() > 40, "case {seed}: {} events", expected.len());
+        assert!(
+            expected.len() > 40,
+            "case {seed}: {} events",
+            expected.len()
+        );
         assert!(bounces > 40, "case {seed}: {bounces} wall contacts");
         assert_eq!(got, expected, "case {seed}");
         assert_eq!(gas.stats().bounces, bounces, "case {seed}");
@@ -115,9 +114,8 @@ fn a_dense_fluid_in_walls_keeps_its_energy_and_presses_on_the_walls() {
         }
     }
     let mut gas = ListedSpheres::in_walls(walls, &balls).unwrap();
-    let energy = |g: &ListedSpheres| -> Real {
-        g.motion.iter().map(|m| m.velocity.length_squared()).sum()
-    };
+    let energy =
+        |g: &ListedSpheres| -> Real { g.motion.iter().map(|m| m.velocity.length_squared()).sum() };
     let e0 = energy(&gas);
     let events = run(&mut gas, 4.0);
     assert!(events.len() > 5000, "{} collisions", events.len());
@@ -150,7 +148,9 @@ fn balls_through_the_walls_are_refused() {
         max: Vec3::splat(4.0),
     };
     let through = [(0.5, FlightPlan::at_rest(Vec3::new(0.2, 2.0, 2.0)))];
-    let e = ListedSpheres::in_walls(walls, &through).unwrap_err().to_string();
+    let e = ListedSpheres::in_walls(walls, &through)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("not inside the walls"), "{e}");
     let flat = Walls {
         min: Vec3::ZERO,
