@@ -19,14 +19,35 @@ fn random_spheres(
     hi: Real,
     speed: Real,
 ) -> Vec<(Real, FlightPlan)> {
+    spheres_within(
+        seed,
+        n,
+        radii,
+        (Vec3::splat(lo), Vec3::splat(hi)),
+        0.0,
+        speed,
+    )
+}
+
+/// `n` non-overlapping spheres of radius in `radii` whose centres lie in the box from `lo` to
+/// `hi` shrunk by `inset` times their radius, speeds up to about `speed`.
+pub(super) fn spheres_within(
+    seed: u64,
+    n: usize,
+    radii: (Real, Real),
+    (lo, hi): (Vec3, Vec3),
+    inset: Real,
+    speed: Real,
+) -> Vec<(Real, FlightPlan)> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut out: Vec<(Real, FlightPlan)> = Vec::new();
     while out.len() < n {
         let r = rng.random_range(radii.0..=radii.1);
+        let m = inset * r;
         let p = Vec3::new(
-            rng.random_range(lo..hi),
-            rng.random_range(lo..hi),
-            rng.random_range(lo..hi),
+            rng.random_range(lo.x + m..hi.x - m),
+            rng.random_range(lo.y + m..hi.y - m),
+            rng.random_range(lo.z + m..hi.z - m),
         );
         let v = Vec3::new(
             rng.random_range(-speed..speed),

@@ -1,7 +1,7 @@
 //! The listed spheres inside walls against the world's brute force with the same walls, event
 //! by event and bit for bit, with `validate()` after every event.
 
-use super::tests::run;
+use super::tests::{run, spheres_within};
 use super::*;
 use kinetic_core::{BruteForce, FlightPlan, Response, Simulator, WorldKind};
 use rand::{Rng, SeedableRng};
@@ -15,28 +15,7 @@ fn balls_inside(
     walls: &Walls,
     speed: Real,
 ) -> Vec<(Real, FlightPlan)> {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut out: Vec<(Real, FlightPlan)> = Vec::new();
-    while out.len() < n {
-        let r = rng.random_range(radii.0..=radii.1);
-        let p = Vec3::new(
-            rng.random_range(walls.min.x + r..walls.max.x - r),
-            rng.random_range(walls.min.y + r..walls.max.y - r),
-            rng.random_range(walls.min.z + r..walls.max.z - r),
-        );
-        let v = Vec3::new(
-            rng.random_range(-speed..speed),
-            rng.random_range(-speed..speed),
-            rng.random_range(-speed..speed),
-        );
-        if out
-            .iter()
-            .all(|(q, plan)| (plan.position - p).length() > r + q + 1e-3)
-        {
-            out.push((r, FlightPlan::linear(p, v)));
-        }
-    }
-    out
+    spheres_within(seed, n, radii, (walls.min, walls.max), 1.0, speed)
 }
 
 /// The world's log of `balls` inside `walls` to `until`, and its wall contacts.
