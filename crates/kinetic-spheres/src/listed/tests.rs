@@ -246,11 +246,10 @@ fn bad_boxes_and_spheres_are_refused() {
     assert!(empty.is_empty());
 }
 
-/// `k^3` spheres of diameter 1 on a cubic lattice at packing 0.45 in a periodic box, with
-/// random velocities from `seed`: a dense fluid once the lattice melts.
-fn dense_lattice(k: usize, seed: u64) -> ListedSpheres {
-    let spacing = (std::f64::consts::PI / 6.0 / 0.45).cbrt();
-    let side = spacing * k as Real;
+/// `k^3` spheres of diameter 1 on a cubic lattice at `packing` in a cube from the origin, with
+/// random velocities from `seed`: the cube's side and the spheres.
+pub(super) fn lattice(k: usize, packing: Real, seed: u64) -> (Real, Vec<(Real, FlightPlan)>) {
+    let spacing = (std::f64::consts::PI / 6.0 / packing).cbrt();
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut spheres = Vec::new();
     for x in 0..k {
@@ -266,6 +265,12 @@ fn dense_lattice(k: usize, seed: u64) -> ListedSpheres {
             }
         }
     }
+    (spacing * k as Real, spheres)
+}
+
+/// [`lattice`] at packing 0.45 in a periodic box: a dense fluid once the lattice melts.
+fn dense_lattice(k: usize, seed: u64) -> ListedSpheres {
+    let (side, spheres) = lattice(k, 0.45, seed);
     let cell = PeriodicBox {
         min: Vec3::ZERO,
         max: Vec3::splat(side),

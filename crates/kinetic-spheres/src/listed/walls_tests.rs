@@ -1,11 +1,9 @@
 //! The listed spheres inside walls against the world's brute force with the same walls, event
 //! by event and bit for bit, with `validate()` after every event.
 
-use super::tests::{run, spheres_within};
+use super::tests::{lattice, run, spheres_within};
 use super::*;
 use kinetic_core::{BruteForce, FlightPlan, Response, Simulator, WorldKind};
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
 
 /// `n` non-overlapping balls of radii in `radii`, inside `walls`, speeds up to `speed`.
 fn balls_inside(
@@ -70,28 +68,11 @@ fn balls_inside_walls_give_the_worlds_log_bit_for_bit() {
 #[test]
 fn a_dense_fluid_in_walls_keeps_its_energy_and_presses_on_the_walls() {
     // A cubic lattice at packing 0.4 that melts, against the walls on every side.
-    let k = 7;
-    let spacing = (std::f64::consts::PI / 6.0 / 0.4).cbrt();
-    let side = spacing * k as Real;
+    let (side, balls) = lattice(7, 0.4, 3);
     let walls = Walls {
         min: Vec3::ZERO,
         max: Vec3::splat(side),
     };
-    let mut rng = ChaCha8Rng::seed_from_u64(3);
-    let mut balls = Vec::new();
-    for x in 0..k {
-        for y in 0..k {
-            for z in 0..k {
-                let p = (Vec3::new(x as Real, y as Real, z as Real) + 0.5) * spacing;
-                let v = Vec3::new(
-                    rng.random_range(-1.0..1.0),
-                    rng.random_range(-1.0..1.0),
-                    rng.random_range(-1.0..1.0),
-                );
-                balls.push((0.5, FlightPlan::linear(p, v)));
-            }
-        }
-    }
     let mut gas = ListedSpheres::in_walls(walls, &balls).unwrap();
     let energy =
         |g: &ListedSpheres| -> Real { g.motion.iter().map(|m| m.velocity.length_squared()).sum() };
