@@ -11,6 +11,11 @@
 //! [--repeat K] [--csv PATH]` (default N = 1000 10000, S = 120, every scene, K = 3). The two
 //! sides run K times, interleaved; each figure is the median of the K runs. Prints a markdown
 //! table and writes it as CSV (default `docs/results/avian.csv`).
+//!
+//! `-- --space K [--from F] [--steps S] [--repeat R]` runs draws F to F + K - 1 of the engine
+//! scene space (`kinetic_scenes::engines::space`) instead (default S = 60), and writes each
+//! draw's ratios and the worst and median over the draws as the `avian` rows of
+//! `docs/results/engines.csv` (or `--csv PATH`).
 
 use avian3d::collider_tree::ColliderTreeDiagnostics;
 use avian3d::collision::CollisionDiagnostics;
@@ -18,7 +23,8 @@ use avian3d::prelude::*;
 use bevy::prelude::*;
 use bevy::time::TimeUpdateStrategy;
 use kinetic_avian::KineticBroadPhasePlugin;
-use kinetic_scenes::engines::{self, EngineScene};
+use kinetic_scenes::engines::results::{self, DrawRow};
+use kinetic_scenes::engines::{self, EngineScene, space};
 use std::time::{Duration, Instant};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -37,7 +43,7 @@ struct Row {
     touching: f64,
 }
 
-fn run(scene: &EngineScene, side: Side, steps: usize) -> Row {
+fn run(scene: &EngineScene, side: Side, steps: usize) -> (Row, String) {
     let mut app = App::new();
     app.add_plugins((MinimalPlugins, TransformPlugin));
     let physics = PhysicsPlugins::default().build();
@@ -78,7 +84,7 @@ fn run(scene: &EngineScene, side: Side, steps: usize) -> Row {
     row.tree_ms = tree.as_secs_f64() * 1e3 / n;
     row.pairs /= n;
     row.touching /= n;
-    row
+    (row, structure(&app))
 }
 
 fn median(mut xs: Vec<f64>) -> f64 {
@@ -86,12 +92,68 @@ fn median(mut xs: Vec<f64>) -> f64 {
     xs[xs.len() / 2]
 }
 
+/// The kinetic plugin's mode at the end of a run, as its diagnostics name it.
+fn structure(app: &App) -> String {
+    app.world()
+        .get_resource::<kinetic_avian::KineticBroadPhase>()
+        .map_or_else(|| "bvh".to_string(), |k| k.structure_name().to_string())
+}
+
+/// Runs draws `from..from + count` of the scene space and writes the `avian` rows of `csv`.
+fn space_draws(from: u64, count: u64, steps: usize, repeat: usize, csv: &str) {
+    println!("avian3d 0.8, {steps} steps at 64 Hz, medians of {repeat} interleaved runs\n");
+    println!("| seed | draw | step | broad phase | pairs | kinetic as |");
+    println!("|---|---|---|---|---|---|");
+    let mut rows = Vec::new();
+    for seed in from..from + count {
+        let d = space::draw(seed);
+        let mut runs: [Vec<Row>; 2] = [Vec::new(), Vec::new()];
+        let mut name = String::new();
+        for _ in 0..repeat {
+            runs[0].push(run(&d.scene, Side::Avian, steps).0);
+            let (row, s) = run(&d.scene, Side::Kinetic, steps);
+            runs[1].push(row);
+            name = s;
+        }
+        let side = |k: usize| {
+            let med = |f: fn(&Row) -> f64| median(runs[k].iter().map(f).collect());
+            results::Side {
+                step_ms: med(|r| r.step_ms),
+                broad_phase_ms: med(|r| r.bp_ms),
+                pairs: med(|r| r.pairs),
+            }
+        };
+        let row = DrawRow::new(&d, steps, side(0), side(1), &name);
+        let [s, b, p] = row.ratios();
+        println!("| {seed} | {d} | {s:.2}x | {b:.2}x | {p:.2}x | {name} |");
+        rows.push(row);
+    }
+    let [worst, median] = results::worst_and_median(&rows);
+    println!(
+        "\nworst: step {:.2}x, broad phase {:.2}x, pairs {:.2}x; median: step {:.2}x, broad phase {:.2}x, pairs {:.2}x ({} draws)",
+        worst[0],
+        worst[1],
+        worst[2],
+        median[0],
+        median[1],
+        median[2],
+        rows.len()
+    );
+    let existing = std::fs::read_to_string(csv).unwrap_or_default();
+    let text = results::merge(&existing, "avian", &results::csv_lines("avian", &rows));
+    match std::fs::write(csv, text) {
+        Ok(()) => println!("wrote {csv}"),
+        Err(e) => eprintln!("could not write {csv}: {e}"),
+    }
+}
+
 fn main() {
     let mut ns = Vec::new();
     let (mut steps, mut repeat) = (120, 3);
     let mut scenes: Vec<String> = engines::STANDARD.iter().map(|s| s.to_string()).collect();
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
-    let mut csv = format!("{root}/docs/results/avian.csv");
+    let mut csv = None;
+    let (mut draws, mut from, mut steps_given) = (None, 0u64, false);
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         let mut value = |name: &str| {
@@ -99,14 +161,31 @@ fn main() {
                 .unwrap_or_else(|| panic!("{name} needs a value"))
         };
         match a.as_str() {
-            "--steps" => steps = value("--steps").parse().expect("--steps: a number"),
+            "--steps" => {
+                steps = value("--steps").parse().expect("--steps: a number");
+                steps_given = true;
+            }
+            "--space" => draws = Some(value("--space").parse().expect("--space: a number")),
+            "--from" => from = value("--from").parse().expect("--from: a seed"),
             "--repeat" => repeat = value("--repeat").parse().expect("--repeat: a number"),
             "--scenes" => scenes = value("--scenes").split(',').map(str::to_string).collect(),
-            "--csv" => csv = value("--csv"),
+            "--csv" => csv = Some(value("--csv")),
             "--bench" => {}
             n => ns.push(n.parse::<usize>().expect("N: a number of bodies")),
         }
     }
+    if let Some(count) = draws {
+        let csv = csv.unwrap_or(format!("{root}/docs/results/engines.csv"));
+        space_draws(
+            from,
+            count,
+            if steps_given { steps } else { 60 },
+            repeat,
+            &csv,
+        );
+        return;
+    }
+    let csv = csv.unwrap_or(format!("{root}/docs/results/avian.csv"));
     if ns.is_empty() {
         ns = vec![1000, 10000];
     }
@@ -126,8 +205,8 @@ fn main() {
             });
             let mut runs: [Vec<Row>; 2] = [Vec::new(), Vec::new()];
             for _ in 0..repeat {
-                runs[0].push(run(&scene, Side::Avian, steps));
-                runs[1].push(run(&scene, Side::Kinetic, steps));
+                runs[0].push(run(&scene, Side::Avian, steps).0);
+                runs[1].push(run(&scene, Side::Kinetic, steps).0);
             }
             let med = |side: usize, f: fn(&Row) -> f64| median(runs[side].iter().map(f).collect());
             let rows: Vec<Row> = (0..2)

@@ -11,9 +11,15 @@
 //! step 1" is the broad phase's mean over the steps after the first, which builds each side's
 //! structure from scratch. `--split P` adds a table of each side's broad-phase time in all over
 //! the steps before step P and from step P on (the rain: while it falls, and once it piles up).
+//!
+//! `-- --space K [--from F] [--steps S] [--repeat R]` runs draws F to F + K - 1 of the engine
+//! scene space (`kinetic_scenes::engines::space`) instead (default S = 60, R = 3), each side
+//! R times interleaved, and writes each draw's ratios and the worst and median over the draws
+//! as the `rapier` rows of `docs/results/engines.csv` (or `--csv PATH`).
 
 use kinetic_rapier::KineticBroadPhase;
-use kinetic_scenes::engines::STANDARD;
+use kinetic_scenes::engines::results::{self, DrawRow};
+use kinetic_scenes::engines::{STANDARD, space};
 use kinetic_scenes::rapier::{RapierScene, standard};
 use rapier3d::prelude::*;
 use std::time::Instant;
@@ -103,6 +109,62 @@ fn kinetic() -> KineticBroadPhase {
     }
 }
 
+/// Runs draws `from..from + count` of the scene space and writes the `rapier` rows of `csv`.
+fn space_draws(from: u64, count: u64, steps: usize, repeat: usize, csv: &str) {
+    println!("rapier 0.27, {steps} steps at 60 Hz, medians of {repeat} interleaved runs\n");
+    println!("| seed | draw | step | broad phase | pairs | kinetic as |");
+    println!("|---|---|---|---|---|---|");
+    let mut rows = Vec::new();
+    for seed in from..from + count {
+        let d = space::draw(seed);
+        let make = || RapierScene::from(d.scene.clone());
+        let (mut ds, mut ks) = (Vec::new(), Vec::new());
+        for _ in 0..repeat {
+            ds.push(run(make(), &mut DefaultBroadPhase::new(), steps, steps));
+            let mut kbp = kinetic();
+            ks.push(run(make(), &mut kbp, steps, steps));
+            if ks.len() == repeat {
+                let side = |rs: &[Row]| {
+                    let med = |f: fn(&Row) -> f64| {
+                        let mut xs: Vec<f64> = rs.iter().map(f).collect();
+                        xs.sort_by(f64::total_cmp);
+                        xs[xs.len() / 2]
+                    };
+                    results::Side {
+                        step_ms: med(|r| r.step_ms),
+                        broad_phase_ms: med(|r| r.bp_ms),
+                        pairs: med(|r| r.pairs),
+                    }
+                };
+                let row = DrawRow::new(&d, steps, side(&ds), side(&ks), kbp.structure_name());
+                let [s, b, p] = row.ratios();
+                println!(
+                    "| {seed} | {d} | {s:.2}x | {b:.2}x | {p:.2}x | {} |",
+                    row.structure
+                );
+                rows.push(row);
+            }
+        }
+    }
+    let [worst, median] = results::worst_and_median(&rows);
+    println!(
+        "\nworst: step {:.2}x, broad phase {:.2}x, pairs {:.2}x; median: step {:.2}x, broad phase {:.2}x, pairs {:.2}x ({} draws)",
+        worst[0],
+        worst[1],
+        worst[2],
+        median[0],
+        median[1],
+        median[2],
+        rows.len()
+    );
+    let existing = std::fs::read_to_string(csv).unwrap_or_default();
+    let text = results::merge(&existing, "rapier", &results::csv_lines("rapier", &rows));
+    match std::fs::write(csv, text) {
+        Ok(()) => println!("wrote {csv}"),
+        Err(e) => eprintln!("could not write {csv}: {e}"),
+    }
+}
+
 fn main() {
     let args: Vec<String> = std::env::args()
         .skip(1)
@@ -112,19 +174,34 @@ fn main() {
     let mut steps = 120;
     let mut only: Option<Vec<String>> = None;
     let mut repeat = 1;
+    let (mut steps_given, mut repeat_given) = (false, false);
     let mut split: Option<usize> = None;
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
-    let mut csv = format!("{root}/docs/results/rapier.csv");
+    let mut csv = None;
+    let (mut draws, mut from) = (None, 0u64);
     let mut it = args.iter();
     while let Some(a) = it.next() {
         if a == "--steps" {
             steps = it.next().and_then(|s| s.parse().ok()).expect("--steps S");
+            steps_given = true;
+        } else if a == "--space" {
+            draws = Some(
+                it.next()
+                    .and_then(|s| s.parse().ok())
+                    .expect("--space K (draws)"),
+            );
+        } else if a == "--from" {
+            from = it
+                .next()
+                .and_then(|s| s.parse().ok())
+                .expect("--from F (a seed)");
         } else if a == "--repeat" {
             repeat = it
                 .next()
                 .and_then(|s| s.parse().ok())
                 .filter(|&k: &usize| k > 0)
                 .expect("--repeat K (K > 0)");
+            repeat_given = true;
         } else if a == "--split" {
             split = Some(
                 it.next()
@@ -132,7 +209,7 @@ fn main() {
                     .expect("--split P (a step)"),
             );
         } else if a == "--csv" {
-            csv = it.next().expect("--csv PATH").clone();
+            csv = Some(it.next().expect("--csv PATH").clone());
         } else if a == "--scenes" {
             let list = it.next().expect("--scenes pile,rain");
             only = Some(list.split(',').map(str::to_string).collect());
@@ -140,6 +217,14 @@ fn main() {
             sizes.push(n);
         }
     }
+    if let Some(count) = draws {
+        let csv = csv.unwrap_or(format!("{root}/docs/results/engines.csv"));
+        let steps = if steps_given { steps } else { 60 };
+        let repeat = if repeat_given { repeat } else { 3 };
+        space_draws(from, count, steps, repeat, &csv);
+        return;
+    }
+    let csv = csv.unwrap_or(format!("{root}/docs/results/rapier.csv"));
     if sizes.is_empty() {
         sizes = vec![1000, 10000, 50000];
     }

@@ -1,6 +1,6 @@
 //! The engine scenes ([`crate::engines`]) in avian3d (feature `avian`).
 
-use crate::engines::{EngineScene, PieceShape};
+use crate::engines::{EngineScene, PieceShape, hull_points, terrain_mesh};
 use avian3d::prelude::*;
 use bevy::prelude::*;
 
@@ -17,6 +17,18 @@ pub fn spawn(scene: &EngineScene, world: &mut World) -> Vec<Entity> {
             let collider = match p.shape {
                 PieceShape::Ball(r) => Collider::sphere(r),
                 PieceShape::Cuboid([x, y, z]) => Collider::cuboid(2.0 * x, 2.0 * y, 2.0 * z),
+                PieceShape::Hull(r) => {
+                    let points: Vec<Vec3> = hull_points(r).into_iter().map(Vec3::from).collect();
+                    Collider::convex_hull(&points).expect("an icosahedron's hull")
+                }
+                PieceShape::Terrain {
+                    half,
+                    cells,
+                    height,
+                } => {
+                    let (vertices, triangles) = terrain_mesh(half, cells, height);
+                    Collider::trimesh(vertices.into_iter().map(Vec3::from).collect(), triangles)
+                }
             };
             let at = Transform::from_translation(Vec3::from(p.position));
             if p.fixed {

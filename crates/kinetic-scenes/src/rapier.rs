@@ -1,6 +1,6 @@
 //! The engine scenes ([`crate::engines`]) in rapier (feature `rapier`).
 
-use crate::engines::{self, EngineScene, PieceShape};
+use crate::engines::{self, EngineScene, PieceShape, hull_points, terrain_mesh};
 use rapier3d::prelude::*;
 
 /// A rapier scene: its bodies and colliders, and the gravity it runs under.
@@ -21,6 +21,20 @@ impl From<EngineScene> for RapierScene {
             let mut co = match p.shape {
                 PieceShape::Ball(r) => ColliderBuilder::ball(r),
                 PieceShape::Cuboid([x, y, z]) => ColliderBuilder::cuboid(x, y, z),
+                PieceShape::Hull(r) => {
+                    let points: Vec<Point<f32>> =
+                        hull_points(r).into_iter().map(Point::from).collect();
+                    ColliderBuilder::convex_hull(&points).expect("an icosahedron's hull")
+                }
+                PieceShape::Terrain {
+                    half,
+                    cells,
+                    height,
+                } => {
+                    let (vertices, triangles) = terrain_mesh(half, cells, height);
+                    let vertices = vertices.into_iter().map(Point::from).collect();
+                    ColliderBuilder::trimesh(vertices, triangles).expect("a grid's triangles")
+                }
             }
             .density(p.density);
             if let Some(e) = p.restitution {

@@ -8,6 +8,9 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+pub mod results;
+pub mod space;
+
 /// A piece's shape.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum PieceShape {
@@ -15,6 +18,59 @@ pub enum PieceShape {
     Ball(f32),
     /// A box of these half-extents.
     Cuboid([f32; 3]),
+    /// A convex hull of this radius: the points of [`hull_points`].
+    Hull(f32),
+    /// A fixed triangle-mesh ground: the mesh of [`terrain_mesh`] with these arguments.
+    Terrain {
+        /// Half its width along x and z.
+        half: f32,
+        /// Cells along each side (two triangles each).
+        cells: u32,
+        /// The height of its bumps.
+        height: f32,
+    },
+}
+
+/// The points of a [`PieceShape::Hull`] of radius `r`: an icosahedron squashed to
+/// `(1, 0.8, 0.9)` times `r` on the axes, so that it rolls unevenly.
+pub fn hull_points(r: f32) -> Vec<[f32; 3]> {
+    let g = (1.0 + 5f32.sqrt()) / 2.0;
+    let scale = r / (1.0 + g * g).sqrt();
+    let mut points = Vec::with_capacity(12);
+    for a in [-1.0, 1.0] {
+        for b in [-g, g] {
+            for p in [[0.0, a, b], [a, b, 0.0], [b, 0.0, a]] {
+                points.push([p[0] * scale, p[1] * scale * 0.8, p[2] * scale * 0.9]);
+            }
+        }
+    }
+    points
+}
+
+/// The vertices and triangles of a [`PieceShape::Terrain`]: a square grid of `cells` by
+/// `cells` cells over `-half..half` along x and z, its height `height` times a product of
+/// two sines (bumps about 8 cells wide), its top between `-height` and `height` about y = 0.
+pub fn terrain_mesh(half: f32, cells: u32, height: f32) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
+    let cells = cells.max(1);
+    let step = 2.0 * half / cells as f32;
+    let at = |i: u32| -half + i as f32 * step;
+    let mut vertices = Vec::with_capacity(((cells + 1) * (cells + 1)) as usize);
+    for i in 0..=cells {
+        for j in 0..=cells {
+            let (x, z) = (at(i), at(j));
+            let y = height * (x / step * 0.8).sin() * (z / step * 0.8).sin();
+            vertices.push([x, y, z]);
+        }
+    }
+    let mut triangles = Vec::with_capacity((2 * cells * cells) as usize);
+    let v = |i: u32, j: u32| i * (cells + 1) + j;
+    for i in 0..cells {
+        for j in 0..cells {
+            triangles.push([v(i, j), v(i, j + 1), v(i + 1, j)]);
+            triangles.push([v(i + 1, j), v(i, j + 1), v(i + 1, j + 1)]);
+        }
+    }
+    (vertices, triangles)
 }
 
 /// One body with one collider.
@@ -403,8 +459,9 @@ mod tests {
         assert_eq!(rain(100, 3, 7), s);
         let d = debris(1000, 1);
         let radius = |p: &Piece| match p.shape {
-            PieceShape::Ball(r) => r,
+            PieceShape::Ball(r) | PieceShape::Hull(r) => r,
             PieceShape::Cuboid(h) => h[0],
+            PieceShape::Terrain { half, .. } => half,
         };
         let (lo, hi) = d
             .pieces

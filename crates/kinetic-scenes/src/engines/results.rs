@@ -1,0 +1,174 @@
+//! The engine benches' figures over the draws of [`super::space`]: one row per draw and
+//! engine, kinetic beside the engine's own broad phase, then the worst draw and the median
+//! of each ratio, written to one CSV file that both engines' benches share (each replaces
+//! its own engine's rows and keeps the other's).
+
+use super::space::Draw;
+use std::fmt::Write as _;
+
+/// One side's figures on one draw, per step.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Side {
+    /// The whole step, milliseconds.
+    pub step_ms: f64,
+    /// The broad phase as the engine counts it, milliseconds.
+    pub broad_phase_ms: f64,
+    /// The pairs handed to the narrow phase (in the contact graph).
+    pub pairs: f64,
+}
+
+/// One draw's figures on one engine: the engine's own broad phase and the kinetic one.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DrawRow {
+    /// The draw (its axes; the scene is not written).
+    pub draw: String,
+    /// The draw's seed.
+    pub seed: u64,
+    /// Steps timed.
+    pub steps: usize,
+    /// The engine's own broad phase.
+    pub own: Side,
+    /// The kinetic broad phase.
+    pub kinetic: Side,
+    /// What the kinetic broad phase ran as (its structure or mode).
+    pub structure: String,
+}
+
+impl DrawRow {
+    /// The row of `draw` run `steps` steps.
+    pub fn new(draw: &Draw, steps: usize, own: Side, kinetic: Side, structure: &str) -> Self {
+        DrawRow {
+            draw: draw.to_string(),
+            seed: draw.seed,
+            steps,
+            own,
+            kinetic,
+            structure: structure.to_string(),
+        }
+    }
+
+    /// Kinetic over own: the whole step, the broad phase and the pairs (1 where both are 0).
+    pub fn ratios(&self) -> [f64; 3] {
+        let r = |k: f64, o: f64| {
+            if o > 0.0 {
+                k / o
+            } else if k > 0.0 {
+                f64::INFINITY
+            } else {
+                1.0
+            }
+        };
+        [
+            r(self.kinetic.step_ms, self.own.step_ms),
+            r(self.kinetic.broad_phase_ms, self.own.broad_phase_ms),
+            r(self.kinetic.pairs, self.own.pairs),
+        ]
+    }
+}
+
+/// The worst (largest) and median of each ratio over `rows`: `[[step, bp, pairs]; 2]`.
+pub fn worst_and_median(rows: &[DrawRow]) -> [[f64; 3]; 2] {
+    let mut out = [[f64::NAN; 3]; 2];
+    for i in 0..3 {
+        let mut xs: Vec<f64> = rows.iter().map(|r| r.ratios()[i]).collect();
+        if xs.is_empty() {
+            continue;
+        }
+        xs.sort_by(f64::total_cmp);
+        out[0][i] = xs[xs.len() - 1];
+        out[1][i] = if xs.len() % 2 == 1 {
+            xs[xs.len() / 2]
+        } else {
+            (xs[xs.len() / 2 - 1] + xs[xs.len() / 2]) / 2.0
+        };
+    }
+    out
+}
+
+/// The CSV header.
+pub const HEADER: &str = "engine,seed,draw,steps,own_step_ms,kinetic_step_ms,step_ratio,own_broad_phase_ms,kinetic_broad_phase_ms,broad_phase_ratio,own_pairs,kinetic_pairs,pairs_ratio,structure";
+
+/// `engine`'s rows, then its worst and median lines (`seed` column `worst` / `median`).
+pub fn csv_lines(engine: &str, rows: &[DrawRow]) -> Vec<String> {
+    let mut lines = Vec::with_capacity(rows.len() + 2);
+    for r in rows {
+        let [s, b, p] = r.ratios();
+        let mut line = String::new();
+        let _ = write!(
+            line,
+            "{engine},{},{},{},{:.3},{:.3},{s:.3},{:.4},{:.4},{b:.3},{:.0},{:.0},{p:.3},{}",
+            r.seed,
+            r.draw,
+            r.steps,
+            r.own.step_ms,
+            r.kinetic.step_ms,
+            r.own.broad_phase_ms,
+            r.kinetic.broad_phase_ms,
+            r.own.pairs,
+            r.kinetic.pairs,
+            r.structure
+        );
+        lines.push(line);
+    }
+    let [worst, median] = worst_and_median(rows);
+    for (label, v) in [("worst", worst), ("median", median)] {
+        lines.push(format!(
+            "{engine},{label},{} draws,,,,{:.3},,,{:.3},,,{:.3},",
+            rows.len(),
+            v[0],
+            v[1],
+            v[2]
+        ));
+    }
+    lines
+}
+
+/// `existing` (a CSV file's text, empty if none) with `engine`'s lines replaced by `lines`:
+/// the other engines' lines kept, in their order, this engine's after them.
+pub fn merge(existing: &str, engine: &str, lines: &[String]) -> String {
+    let mut out = vec![HEADER.to_string()];
+    let prefix = format!("{engine},");
+    out.extend(
+        existing
+            .lines()
+            .skip(1)
+            .filter(|l| !l.is_empty() && !l.starts_with(&prefix))
+            .map(str::to_string),
+    );
+    out.extend(lines.iter().cloned());
+    out.join("\n") + "\n"
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::engines::space::draw;
+
+    fn row(seed: u64, own: f64, kinetic: f64) -> DrawRow {
+        let side = |ms: f64| Side {
+            step_ms: ms,
+            broad_phase_ms: ms / 10.0,
+            pairs: 100.0,
+        };
+        DrawRow::new(&draw(seed), 60, side(own), side(kinetic), "grid")
+    }
+
+    #[test]
+    fn the_worst_and_median_are_over_the_draws_and_each_engine_keeps_the_others_rows() {
+        let rows = [row(1, 10.0, 5.0), row(2, 10.0, 12.0), row(3, 10.0, 9.0)];
+        let [worst, median] = worst_and_median(&rows);
+        assert!((worst[0] - 1.2).abs() < 1e-12 && (median[0] - 0.9).abs() < 1e-12);
+        assert!((worst[2] - 1.0).abs() < 1e-12);
+        let rapier = csv_lines("rapier", &rows);
+        assert_eq!(rapier.len(), 5);
+        assert!(rapier[3].starts_with("rapier,worst,3 draws,") && rapier[3].contains("1.200"));
+        let file = merge("", "rapier", &rapier);
+        let avian = csv_lines("avian", &rows[..1]);
+        let both = merge(&file, "avian", &avian);
+        assert_eq!(both.lines().count(), 1 + 5 + 3);
+        let again = merge(&both, "rapier", &rapier[..2]);
+        assert_eq!(again.lines().count(), 1 + 3 + 2);
+        assert!(again.lines().nth(1).unwrap().starts_with("avian,"));
+        assert_eq!(again.lines().next(), Some(HEADER));
+    }
+}
