@@ -8,7 +8,7 @@ use avian3d::prelude::*;
 use bevy::ecs::entity::EntityGeneration;
 use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
-use kinetic_broad::{BodyState, Bound, ColliderStatus, Engine, EngineStep, Key, Slack};
+use kinetic_broad::{Aabb, BodyState, Bound, ColliderStatus, Engine, EngineStep, Key, Slack};
 use kinetic_core::{Real, Vec3};
 
 /// An entity as a key: its index and generation.
@@ -162,7 +162,7 @@ impl Engine for AvianWorld<'_, '_> {
         }
     }
 
-    fn bounds(&self, c: Key) -> Option<(Vec3, Vec3)> {
+    fn bounds(&self, c: Key) -> Option<Aabb> {
         let (collider, pos, rot, _, _, margin, _, disabled) =
             self.colliders.get(entity(c)?).ok()?;
         if disabled {
@@ -170,7 +170,7 @@ impl Engine for AvianWorld<'_, '_> {
         }
         let aabb = collider.aabb(pos.0, *rot, 0.0);
         let m = Vec3::splat(self.margin(margin));
-        Some((dvec!(aabb.min) - m, dvec!(aabb.max) + m))
+        Some(Aabb::new(dvec!(aabb.min), dvec!(aabb.max)).grown(m))
     }
 
     fn body(&self, b: Key) -> Option<BodyState> {

@@ -1,6 +1,6 @@
 //! What the broad phase asks of a physics engine, and what it hands back.
 
-use crate::{Bound, Slack};
+use crate::{Aabb, Bound, Slack};
 use kinetic_core::{Real, Vec3};
 
 /// An engine's key for a collider or a body: a dense index that the engine may reuse once the
@@ -62,10 +62,11 @@ pub trait Engine {
     fn motions(&self, bodies: &[Key], out: &mut Vec<Option<(Vec3, Vec3)>>) {
         out.extend(bodies.iter().map(|&b| self.motion(b)));
     }
-    /// Collider `c`'s axis-aligned box now, `(min, max)`, grown by the same margins as its
-    /// [`Bound`]. An engine that gives it lets bodies in contact be held by fat boxes (see
-    /// the crate docs); the default, `None`, keeps every moving body on a flight plan.
-    fn bounds(&self, c: Key) -> Option<(Vec3, Vec3)> {
+    /// Collider `c`'s axis-aligned box now, grown by the margins the engine grows it by (its
+    /// contact prediction distance). An engine that gives it lets bodies in contact be held
+    /// by fat boxes (see the crate docs); the default, `None`, keeps every moving body on a
+    /// flight plan.
+    fn bounds(&self, c: Key) -> Option<Aabb> {
         let _ = c;
         None
     }

@@ -3,7 +3,7 @@
 // `f64.rs`, each with its own `rapier` (rapier3d or rapier3d-f64).
 
 use kinetic_broad::{
-    BodyState, BroadPhaseCore, BroadPhaseStats, Engine, Bound, Key, PairEvent, ColliderStatus, Slack,
+    Aabb,    BodyState, BroadPhaseCore, BroadPhaseStats, Engine, Bound, Key, PairEvent, ColliderStatus, Slack,
     EngineStep, StepStats,
 };
 use kinetic_core::{Real, Vec3, prefetch};
@@ -126,14 +126,14 @@ impl Engine for Rapier<'_> {
         }
     }
 
-    fn bounds(&self, c: Key) -> Option<(Vec3, Vec3)> {
+    fn bounds(&self, c: Key) -> Option<Aabb> {
         let co = self
             .colliders
             .get(ColliderHandle::from_raw_parts(c.index, c.generation))?;
         let aabb = co.compute_aabb();
         let margin = margin_of(co, self.params);
         let m = Vec3::splat(margin);
-        Some((just_stored(&aabb.mins) - m, just_stored(&aabb.maxs) + m))
+        Some(Aabb::new(just_stored(&aabb.mins), just_stored(&aabb.maxs)).grown(m))
     }
 
     fn motion(&self, b: Key) -> Option<(Vec3, Vec3)> {

@@ -26,11 +26,11 @@
 //! twice are deduplicated. Nothing is allocated once the buffers have grown.
 //!
 //! A few boxes, or boxes that overlap few others along some axis (debris), are sorted and
-//! swept instead ([`crate::sweep`]): below a few hundred boxes a grid's fixed costs outweigh
+//! swept instead ([`super::sweep`]): below a few hundred boxes a grid's fixed costs outweigh
 //! its few tests.
 
+use super::sweep::SortAndSweep;
 use crate::aabb::{Aabb, AabbF32, overlap, to_f32, width};
-use crate::sort_and_sweep::SortAndSweep;
 use glam::Vec3A;
 use kinetic_core::floor_int;
 
@@ -353,7 +353,7 @@ impl SteppedGrid {
             self.sweep_wait = self.sweep_wait.saturating_sub(1);
         }
         self.choose_cell();
-        // AabbF32 boxes and their slots; the others are wide (a NaN box too: it meets none).
+        // Small boxes and their slots; the others are wide (a NaN box too: it meets none).
         self.wide.clear();
         self.slots.clear();
         let limit = self.widest;
@@ -425,7 +425,7 @@ impl SteppedGrid {
         self.starts.copy_within(0..len, 1);
         self.starts[0] = 0;
         self.built = true;
-        // AabbF32 against small: within a cell, and with the cells after it.
+        // Small against small: within a cell, and with the cells after it.
         let test = |a: &AabbF32, i: u32, run: &[(AabbF32, u32)], out: &mut Vec<(u32, u32)>| {
             for (b, j) in run {
                 // A box whose cells hash alike is filed twice in a slot.
@@ -579,4 +579,5 @@ fn push(out: &mut Vec<(u32, u32)>, keep: &dyn Fn(u32, u32) -> bool, a: u32, b: u
 }
 
 #[cfg(test)]
+#[path = "grid_tests.rs"]
 pub(crate) mod tests;

@@ -1,15 +1,23 @@
-//! The kinetic broad phase: colliders as proxies in a kinetic structure, bodies on flight
-//! plans fitted to the engine's integrator, and the pairs handed to the engine (see the crate
-//! docs).
+//! The kinetic half of the broad phase, and its front door: colliders as proxies in a
+//! kinetic structure, bodies on flight plans fitted to the engine's integrator, the pairs the
+//! structure holds, and of those the engine's own handed to it (see the crate docs). Where
+//! plans do not hold, the core steps instead (`mode.rs`), with the other half
+//! ([`crate::stepped`]).
 //!
-//! Split by operation: `api.rs` (building and asking), `proxies.rs` (colliders in and out of
-//! the structure), `plans.rs` (bodies' plans and slack), `update.rs` (the engine's call and
-//! the structure's events), `fat.rs` (bodies at rest held by fat boxes), `validate.rs`.
+//! Split by operation: `api.rs` (building and asking), `bound.rs` (how a collider is held),
+//! `motions.rs` (per-body state), `proxies.rs` (colliders in and out of the structure),
+//! `plans.rs` (bodies' plans and slack), `update.rs` (the engine's call and the structure's
+//! events), `pairs.rs` (the book of held pairs), `handed.rs` (the pairs handed to the
+//! engine), `fat.rs` (bodies at rest held by fat boxes), `mode.rs` (kinetic or stepped),
+//! `stats.rs`, `validate.rs`.
 
 mod api;
+mod bound;
 mod fat;
 mod handed;
 mod mode;
+mod motions;
+mod pairs;
 mod plans;
 mod proxies;
 mod stats;
@@ -18,13 +26,15 @@ mod tests;
 mod update;
 mod validate;
 
+pub use bound::{Bound, Slack, fit_plan};
 pub use stats::{BroadPhaseStats, StepStats};
 
-use crate::motions::ByBody;
-use crate::pairs::{PairBook, PairOut};
-use crate::{Bound, Key, Slack};
+use crate::Aabb;
+use crate::Key;
 use kinetic_core::kds::PairChange;
 use kinetic_core::{Body, CandidateStructure, FlightPlan, Real, Vec3};
+use motions::ByBody;
+use pairs::{PairBook, PairOut};
 use smallvec::SmallVec;
 
 /// Steps over which a body must stay within half its slack to be planned at rest.
@@ -63,7 +73,7 @@ struct Proxy {
     grown_until: Option<Real>,
     /// The fat box `(min, max)` it is held by while its body is at rest (`None`: the ball
     /// of its hold, on the body's plan).
-    fat: Option<(Vec3, Vec3)>,
+    fat: Option<Aabb>,
 }
 
 /// A moving body's plan and what the broad phase has seen of it.

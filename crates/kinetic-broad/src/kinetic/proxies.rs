@@ -3,6 +3,7 @@
 
 use super::{BroadPhaseCore, Proxy, Structure};
 use super::{REGION_MARGIN, REGION_STEPS};
+use crate::Aabb;
 use crate::{BodyState, Bound, Engine, EngineStep, Key};
 use kinetic_core::{Body, FlightPlan, Real, Shape, Vec3};
 use kinetic_flight::{ConvexShape, Grid, LooseGrid};
@@ -10,7 +11,7 @@ use kinetic_flight::{ConvexShape, Grid, LooseGrid};
 impl BroadPhaseCore {
     /// The structure's shape for collider `i` held by `hold`: its fat box if it has one.
     fn shape(&self, i: u32, hold: &Bound) -> Shape {
-        if let Some((min, max)) = self.fat_box(i) {
+        if let Some(Aabb { min, max }) = self.fat_box(i) {
             return box_shape(min, max);
         }
         match *hold {
@@ -33,14 +34,14 @@ impl BroadPhaseCore {
     }
 
     /// Collider `i`'s fat box, if it has one.
-    fn fat_box(&self, i: u32) -> Option<(Vec3, Vec3)> {
+    fn fat_box(&self, i: u32) -> Option<Aabb> {
         self.proxies.get(i as usize).copied().flatten()?.fat
     }
 
     /// The structure's plan for collider `i` held by `hold`: at rest in its fat box's centre
     /// if it has one.
     fn plan_of(&self, i: u32, hold: &Bound) -> FlightPlan {
-        if let Some((min, max)) = self.fat_box(i) {
+        if let Some(Aabb { min, max }) = self.fat_box(i) {
             return FlightPlan::at_rest((min + max) / 2.0);
         }
         match *hold {

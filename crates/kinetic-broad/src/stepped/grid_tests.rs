@@ -20,7 +20,7 @@ fn check_one(grid: &mut SteppedGrid, items: &[(u32, Aabb)], what: &str) {
     let mut want = Vec::new();
     for (k, a) in items.iter().enumerate() {
         for b in &items[k + 1..] {
-            if a.1.0.cmple(b.1.1).all() && b.1.0.cmple(a.1.1).all() {
+            if a.1.overlaps(&b.1) {
                 want.push(ordered(a.0, b.0));
             }
         }
@@ -37,11 +37,10 @@ fn check_one(grid: &mut SteppedGrid, items: &[(u32, Aabb)], what: &str) {
         let find = |id: u32| items.iter().find(|(i, _)| *i == id).expect("an item").1;
         let (a, b) = (find(a), find(b));
         let grow = |x: Aabb| {
-            let out = (x.0.abs() + x.1.abs()) * (2.0 * f32::EPSILON as Real);
-            (x.0 - out, x.1 + out)
+            let out = (x.min.abs() + x.max.abs()) * (2.0 * f32::EPSILON as Real);
+            Aabb::new(x.min - out, x.max + out)
         };
-        let (a, b) = (grow(a), grow(b));
-        a.0.cmple(b.1).all() && b.0.cmple(a.1).all()
+        grow(a).overlaps(&grow(b))
     };
     let extra: Vec<_> = out
         .iter()
@@ -68,9 +67,9 @@ fn scattered_boxes_with_a_few_wide_ones_give_exactly_the_overlapping_pairs() {
                 Vec3::splat(0.2 + next(&mut s) * (round as Real + 1.0))
             };
             let b = if id == 5 && round == 2 {
-                (Vec3::NAN, Vec3::NAN)
+                Aabb::new(Vec3::NAN, Vec3::NAN)
             } else {
-                (c - h, c + h)
+                Aabb::new(c - h, c + h)
             };
             items.push((id * 3 + round, b));
         }
@@ -100,9 +99,9 @@ fn clusters_far_apart_in_hashed_cells_give_exactly_the_overlapping_pairs() {
                 Vec3::splat(0.3 + next(&mut s) * 0.5)
             };
             let b = if id == 7 && round == 1 {
-                (Vec3::NAN, Vec3::NAN)
+                Aabb::new(Vec3::NAN, Vec3::NAN)
             } else {
-                (c - h, c + h)
+                Aabb::new(c - h, c + h)
             };
             items.push((id * 5 + round, b));
         }
@@ -125,21 +124,21 @@ fn a_dense_pile_with_a_spread_of_wide_boxes_gives_exactly_the_overlapping_pairs(
             let (x, y, z) = (k % 10, (k / 10) % 10, k / 100);
             let c = Vec3::new(x as Real, y as Real, z as Real) * 0.5 + next_vec(&mut s) * 0.05;
             let h = next_vec(&mut s) * 0.05 + 0.2;
-            items.push((k, (c - h, c + h)));
+            items.push((k, Aabb::new(c - h, c + h)));
         }
         // Wide boxes of many sizes, more than make a grid of their own.
         for k in 0..60u32 {
             let c = next_vec(&mut s) * 5.0;
             let h = Vec3::splat(0.6 * (1.0 + 8.0 * next(&mut s)));
-            items.push((2000 + k, (c - h, c + h)));
+            items.push((2000 + k, Aabb::new(c - h, c + h)));
         }
         // A ground, and (once) a box with NaN sides.
         items.push((
             5000,
-            (Vec3::new(-50.0, -1.0, -50.0), Vec3::new(50.0, 0.1, 50.0)),
+            Aabb::new(Vec3::new(-50.0, -1.0, -50.0), Vec3::new(50.0, 0.1, 50.0)),
         ));
         if round == 1 {
-            items.push((5001, (Vec3::NAN, Vec3::ONE)));
+            items.push((5001, Aabb::new(Vec3::NAN, Vec3::ONE)));
         }
         check(&mut grid, &items, &format!("round {round}"));
     }
@@ -163,7 +162,7 @@ fn sizes_spread_over_three_orders_nest_grids_and_give_exactly_the_overlapping_pa
             let r = 1.0 / (100.0 - next(&mut s) * 99.9);
             let c = next_vec(&mut s) * 60.0;
             let h = Vec3::new(1.0, 0.5 + next(&mut s), 1.0) * r;
-            items.push((id * 3 + round, (c - h, c + h)));
+            items.push((id * 3 + round, Aabb::new(c - h, c + h)));
         }
         check(&mut grid, &items, &format!("round {round}"));
         let mut depth = 0;
@@ -179,7 +178,7 @@ fn sizes_spread_over_three_orders_nest_grids_and_give_exactly_the_overlapping_pa
         assert!(swept.swept, "round {round}: debris not swept");
         for k in 0..400 {
             let (_, q) = items[(k / 2 * 13) % items.len()];
-            let q = (q.0 - Vec3::splat(0.05), q.1 + Vec3::splat(0.05));
+            let q = q.grown(Vec3::splat(0.05));
             let mut got = Vec::new();
             let (by, among) = if k % 2 == 0 {
                 (&grid, &items[..])
@@ -204,8 +203,10 @@ fn sizes_spread_over_three_orders_nest_grids_and_give_exactly_the_overlapping_pa
 #[test]
 fn boxes_that_are_all_nan_or_wide_do_not_recurse_for_ever() {
     let mut grid = SteppedGrid::default();
-    let mut items: Vec<(u32, Aabb)> = (0..40).map(|k| (k, (Vec3::NAN, Vec3::NAN))).collect();
-    items.push((100, (Vec3::ZERO, Vec3::ONE)));
-    items.push((101, (Vec3::splat(0.5), Vec3::splat(2.0))));
+    let mut items: Vec<(u32, Aabb)> = (0..40)
+        .map(|k| (k, Aabb::new(Vec3::NAN, Vec3::NAN)))
+        .collect();
+    items.push((100, Aabb::new(Vec3::ZERO, Vec3::ONE)));
+    items.push((101, Aabb::new(Vec3::splat(0.5), Vec3::splat(2.0))));
     check(&mut grid, &items, "NaN boxes");
 }

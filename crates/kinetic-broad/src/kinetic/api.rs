@@ -1,8 +1,8 @@
 //! Building a broad phase and asking it about itself.
 
+use super::motions::ByBody;
+use super::pairs::PairBook;
 use super::{BroadPhaseCore, BroadPhaseStats, Clock, StepStats};
-use crate::motions::ByBody;
-use crate::pairs::PairBook;
 use crate::{Key, Slack};
 use kinetic_core::Real;
 

@@ -47,7 +47,7 @@ impl Engine for Toy {
         self.bodies.iter().find(|(k, _)| *k == b).map(|(_, s)| *s)
     }
 
-    fn bounds(&self, c: Key) -> Option<(Vec3, Vec3)> {
+    fn bounds(&self, c: Key) -> Option<Aabb> {
         if !self.boxes {
             return None;
         }
@@ -56,9 +56,9 @@ impl Engine for Toy {
             Part::Ball { body, radius } => {
                 let centre = self.body(body)?.centre;
                 let r = Vec3::splat(radius) + margin;
-                Some((centre - r, centre + r))
+                Some(Aabb::new(centre - r, centre + r))
             }
-            Part::Box { min, max } => Some((min - margin, max + margin)),
+            Part::Box { min, max } => Some(Aabb::new(min - margin, max + margin)),
         }
     }
 }

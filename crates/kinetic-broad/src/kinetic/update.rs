@@ -1,8 +1,8 @@
 //! The engine's call: the user's changes and the bodies moved, then the structure's events
 //! over the coming step and the pairs handed over.
 
+use super::pairs::PairOut;
 use super::{BroadPhaseCore, StepStats};
-use crate::pairs::PairOut;
 use crate::{Bound, ColliderStatus, Engine, EngineStep, Key, PairEvent};
 use kinetic_core::{FlightPlan, Real, Vec3};
 

@@ -10,6 +10,7 @@
 //! world's pairs are already those of the boxes swept over the step: they pass as they are.
 
 use super::BroadPhaseCore;
+use crate::Aabb;
 use crate::{Bound, Engine, Key, PairEvent};
 use kinetic_core::{Real, Vec3};
 use smallvec::SmallVec;
@@ -34,7 +35,7 @@ pub(super) struct Handed {
     /// The call's number, and per collider the call whose swept box `boxes` holds and the
     /// call that looked at its pairs.
     call: u32,
-    boxes: Vec<(u32, (Vec3, Vec3))>,
+    boxes: Vec<(u32, Aabb)>,
     looked: Vec<u32>,
 }
 
@@ -63,7 +64,8 @@ impl Handed {
         let need = i as usize + 1;
         if self.links.len() < need {
             self.links.resize(need, SmallVec::new());
-            self.boxes.resize(need, (0, (Vec3::ZERO, Vec3::ZERO)));
+            self.boxes
+                .resize(need, (0, Aabb::new(Vec3::ZERO, Vec3::ZERO)));
             self.looked.resize(need, 0);
         }
     }
@@ -230,7 +232,7 @@ impl BroadPhaseCore {
         events: &mut Vec<PairEvent>,
     ) {
         let (x, y) = (self.box_of(h, engine, a), self.box_of(h, engine, b));
-        let meet = x.0.cmple(y.1).all() && y.0.cmple(x.1).all();
+        let meet = x.overlaps(&y);
         if meet != had {
             h.set(a.index, b.index, meet);
             self.count_event(meet);
@@ -244,7 +246,7 @@ impl BroadPhaseCore {
     }
 
     /// Collider `c`'s swept box in this call, worked out once.
-    fn box_of(&self, h: &mut Handed, engine: &impl Engine, c: Key) -> (Vec3, Vec3) {
+    fn box_of(&self, h: &mut Handed, engine: &impl Engine, c: Key) -> Aabb {
         let i = c.index as usize;
         if h.boxes[i].0 != h.call {
             h.boxes[i] = (h.call, self.swept_bounds(engine, c, self.clock.dt));
@@ -255,22 +257,24 @@ impl BroadPhaseCore {
     /// Collider `c`'s box as the engine grows it (for an engine that gives no boxes, the
     /// ball of its hold about its body's centre, or a fixed collider's own box), swept along
     /// its body's velocity over `dt` (a sleeping body's as it is); everywhere when unknown.
-    fn swept_bounds(&self, engine: &impl Engine, c: Key, dt: Real) -> (Vec3, Vec3) {
-        let everywhere = (Vec3::NEG_INFINITY, Vec3::INFINITY);
+    fn swept_bounds(&self, engine: &impl Engine, c: Key, dt: Real) -> Aabb {
+        let everywhere = Aabb::EVERYWHERE;
         let hold = self.proxies.get(c.index as usize).copied().flatten();
         let (state, own) = match hold.map(|p| p.hold) {
             Some(Bound::Moving { body, radius, .. }) => {
                 let state = engine.body(body);
                 let own = engine.bounds(c).or_else(|| {
                     let r = Vec3::splat(radius);
-                    state.map(|s| (s.centre - r, s.centre + r))
+                    state.map(|s| Aabb::about(s.centre, r))
                 });
                 (state, own)
             }
-            Some(Bound::Fixed { min, max }) => (None, Some(engine.bounds(c).unwrap_or((min, max)))),
+            Some(Bound::Fixed { min, max }) => {
+                (None, Some(engine.bounds(c).unwrap_or(Aabb::new(min, max))))
+            }
             None => (None, engine.bounds(c)),
         };
-        let Some((lo, hi)) = own else {
+        let Some(own) = own else {
             return everywhere;
         };
         let v = state
@@ -280,7 +284,7 @@ impl BroadPhaseCore {
         if !d.is_finite() {
             return everywhere;
         }
-        (lo.min(lo + d), hi.max(hi + d))
+        own.swept(d)
     }
 
     /// Counts a pair added to or deleted from the engine.

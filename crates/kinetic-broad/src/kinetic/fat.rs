@@ -12,24 +12,12 @@
 //! An engine that gives no boxes ([`Engine::bounds`]) keeps every body on its plan.
 
 use super::{BroadPhaseCore, Motion};
-use crate::aabb::Aabb;
+use crate::Aabb;
 use crate::{Bound, Engine, Key};
 use kinetic_core::{Real, Vec3};
 
 /// A fat box is grown by this share of its collider's box half-width on every side.
 const FAT_MARGIN: Real = 0.1;
-
-/// An axis-aligned box, `(min, max)`.
-
-/// Collider box `lo..hi` swept by displacement `d`.
-fn swept(lo: Vec3, hi: Vec3, d: Vec3) -> (Vec3, Vec3) {
-    (lo + d.min(Vec3::ZERO), hi + d.max(Vec3::ZERO))
-}
-
-/// Whether box `inner` lies inside box `outer`.
-fn inside((lo, hi): Aabb, (min, max): Aabb) -> bool {
-    min.cmple(lo).all() && hi.cmple(max).all()
-}
 
 impl Motion {
     /// Whether its plan is at rest.
@@ -42,10 +30,9 @@ impl BroadPhaseCore {
     /// The fat box for collider `c` of a body moving at `v` over a step `dt`, with base slack
     /// `slack`; `None` if the engine gives no box.
     fn fat_box_for(engine: &impl Engine, c: Key, v: Vec3, dt: Real, slack: Real) -> Option<Aabb> {
-        let (lo, hi) = engine.bounds(c)?;
-        let (lo, hi) = swept(lo, hi, v * dt);
-        let m = (FAT_MARGIN * ((hi - lo) / 2.0).max_element()).max(slack);
-        Some((lo - Vec3::splat(m), hi + Vec3::splat(m)))
+        let b = engine.bounds(c)?.swept(v * dt);
+        let m = (FAT_MARGIN * b.widest() / 2.0).max(slack);
+        Some(b.grown(Vec3::splat(m)))
     }
 
     /// Whether every collider of fat body `b`, moving at `v`, stays inside its fat box over
@@ -55,10 +42,10 @@ impl BroadPhaseCore {
             let Some(p) = self.proxies[i as usize] else {
                 return true;
             };
-            let (Some(fat), Some((lo, hi))) = (p.fat, engine.bounds(p.key)) else {
+            let (Some(fat), Some(b)) = (p.fat, engine.bounds(p.key)) else {
                 return false;
             };
-            inside(swept(lo, hi, v * dt), fat)
+            b.swept(v * dt).inside(&fat)
         })
     }
 
@@ -148,16 +135,17 @@ impl BroadPhaseCore {
             let Some(p) = self.proxies[i as usize] else {
                 continue;
             };
-            let Some((min, max)) = p.fat else {
+            let Some(fat) = p.fat else {
                 return Err(format!(
                     "collider {i} of body {b:?}, held by boxes, has none"
                 ));
             };
-            if let Some((lo, hi)) = engine.bounds(p.key)
-                && !inside((lo, hi), (min, max))
+            if let Some(own) = engine.bounds(p.key)
+                && !own.inside(&fat)
             {
                 return Err(format!(
-                    "collider {i} of body {b:?}: box {lo}..{hi} outside its fat box {min}..{max}"
+                    "collider {i} of body {b:?}: box {}..{} outside its fat box {}..{}",
+                    own.min, own.max, fat.min, fat.max
                 ));
             }
         }

@@ -32,8 +32,8 @@
 //! and deletes the others.
 
 use super::{BroadPhaseCore, REGION_MARGIN, REGION_STEPS};
-use crate::aabb::Aabb;
-use crate::fat_pairs::FatPairs;
+use crate::Aabb;
+use crate::stepped::FatPairs;
 use crate::{Bound, Engine, Key, PairEvent};
 use kinetic_core::{Real, Vec3};
 use kinetic_flight::LOOSE_TRAVEL;
@@ -200,7 +200,7 @@ impl Stepped {
             self.pending.push(i as u32);
             return;
         };
-        let c = (b.0 + b.1) / 2.0;
+        let c = b.centre();
         match self.history[i] {
             Some((last, d0)) => {
                 let d1 = c - last;
@@ -423,7 +423,7 @@ impl BroadPhaseCore {
                 continue;
             }
             st.boxes[i] = Some(match p.hold {
-                Bound::Fixed { min, max } => ((min, max), Vec3::ZERO),
+                Bound::Fixed { min, max } => (Aabb::new(min, max), Vec3::ZERO),
                 Bound::Moving { body, radius, .. } => {
                     let rb = engine.body(body);
                     let v = rb.map_or(Vec3::ZERO, |rb| rb.velocity);
@@ -435,12 +435,12 @@ impl BroadPhaseCore {
                             || m.map_or(Vec3::ZERO, |m| m.plan.position_at(self.clock.pos)),
                             |rb| rb.centre,
                         );
-                        (c - Vec3::splat(radius), c + Vec3::splat(radius))
+                        Aabb::about(c, Vec3::splat(radius))
                     });
                     // Where a semi-implicit Euler step takes it under the acceleration it
                     // has shown.
                     let a = m.map_or(Vec3::ZERO, |m| m.steady_a);
-                    st.history[i] = Some(((b.0 + b.1) / 2.0, None));
+                    st.history[i] = Some((b.centre(), None));
                     (b, (v + a * dt) * dt)
                 }
             });
@@ -524,7 +524,7 @@ fn anchors(boxes: &[Option<(Aabb, Vec3)>]) -> Real {
     boxes
         .iter()
         .flatten()
-        .map(|((lo, hi), d)| {
+        .map(|(Aabb { min: lo, max: hi }, d)| {
             let (d, w) = (d.length(), (*hi - *lo).max_element());
             let h = (LOOSE_TRAVEL * w / d).clamp(1.0, REGION_STEPS);
             let a = d / (h * d + REGION_MARGIN * w);
@@ -555,7 +555,10 @@ fn typical_move(boxes: &[Option<(Aabb, Vec3)>], sample: &mut Vec<Real>) -> Vec3 
 
 /// Whether box `a` moving by `da` and box `b` moving by `db`, both at constant speed over the
 /// step, overlap at some moment of it (touching counts; a little more, for the rounding).
-fn meet_within_step(((alo, ahi), da): (Aabb, Vec3), ((blo, bhi), db): (Aabb, Vec3)) -> bool {
+fn meet_within_step(
+    (Aabb { min: alo, max: ahi }, da): (Aabb, Vec3),
+    (Aabb { min: blo, max: bhi }, db): (Aabb, Vec3),
+) -> bool {
     // Most candidates overlap as the step starts: no allowance needed.
     if alo.cmple(bhi).all() && blo.cmple(ahi).all() {
         return true;
@@ -590,7 +593,7 @@ mod tests {
     use super::*;
 
     fn unit(at: Vec3) -> Aabb {
-        (at, at + Vec3::ONE)
+        Aabb::new(at, at + Vec3::ONE)
     }
 
     #[test]

@@ -1,8 +1,8 @@
 //! The audit: the invariants recomputed from scratch.
 
 use super::{BroadPhaseCore, Proxy};
+use crate::Aabb;
 use crate::{Bound, ColliderStatus, Engine, Key};
-use kinetic_core::Vec3;
 
 impl BroadPhaseCore {
     /// Recomputes the invariants from scratch, between calls: the structure's own and the
@@ -80,14 +80,14 @@ impl BroadPhaseCore {
         if !reported.windows(2).all(|w| w[0] < w[1]) {
             return Err("the stepped pairs are not sorted and distinct".into());
         }
-        let boxes: Vec<(u32, (Vec3, Vec3))> = self
+        let boxes: Vec<(u32, Aabb)> = self
             .proxies
             .iter()
             .enumerate()
             .filter_map(|(i, p)| {
                 let p = p.as_ref()?;
                 let b = match p.hold {
-                    Bound::Fixed { min, max } => (min, max),
+                    Bound::Fixed { min, max } => Aabb::new(min, max),
                     Bound::Moving { .. } => engine.bounds(p.key)?,
                 };
                 Some((i as u32, b))
@@ -95,7 +95,7 @@ impl BroadPhaseCore {
             .collect();
         for (k, (a, x)) in boxes.iter().enumerate() {
             for (b, y) in &boxes[k + 1..] {
-                let meet = x.0.cmple(y.1).all() && y.0.cmple(x.1).all();
+                let meet = x.overlaps(y);
                 if meet && reported.binary_search(&(*a.min(b), *a.max(b))).is_err() {
                     return Err(format!(
                         "colliders {a} and {b}: boxes overlap, the pair is not handed over"
@@ -121,8 +121,7 @@ impl BroadPhaseCore {
             let has = self.has_pair(ka, kb);
             handed += usize::from(has);
             if let (Some(x), Some(y)) = (engine.bounds(ka), engine.bounds(kb))
-                && x.0.cmple(y.1).all()
-                && y.0.cmple(x.1).all()
+                && x.overlaps(&y)
                 && !has
             {
                 return Err(format!(

@@ -26,8 +26,8 @@
 //! or costing more, are tried again only after [`FIRST_WAIT`] calls, then twice as many each
 //! time they fail, up to [`LAST_WAIT`].
 
+use super::SteppedGrid;
 use crate::aabb::{Aabb, AabbF32, overlap, overlapping, to_f32};
-use crate::stepped::SteppedGrid;
 use kinetic_core::{Real, Vec3};
 
 /// A fat box covers at least this many steps of its box's move...
@@ -209,9 +209,9 @@ impl FatPairs {
         let reach = AHEAD * AHEAD / 2.0;
         let mut unsteady = 0;
         for (b, last) in boxes.boxes.iter().zip(&mut self.last_moves) {
-            if let (Some(((lo, hi), d)), Some(d0)) = (b, *last) {
+            if let (Some((b, d)), Some(d0)) = (b, *last) {
                 // The swept box's width.
-                let width = (*hi - *lo + (*d - boxes.frame).abs()).max_element();
+                let width = (b.max - b.min + (*d - boxes.frame).abs()).max_element();
                 unsteady += usize::from((*d - d0).length() * reach > MARGIN * width);
             }
             *last = b.map(|b| b.1);
@@ -281,9 +281,7 @@ impl FatPairs {
         for (i, (b, f)) in boxes.iter().zip(&self.fat).enumerate() {
             let inside = match (b, f) {
                 (None, None) => true,
-                (Some(((lo, hi), _)), Some((flo, fhi))) => {
-                    lo.cmpge(*flo).all() && hi.cmple(*fhi).all()
-                }
+                (Some((b, _)), Some(fat)) => b.inside(fat),
                 _ => false,
             };
             if !inside {
@@ -378,21 +376,15 @@ impl Swept<'_> {
     }
 
     fn sweep(&self, b: Option<(Aabb, Vec3)>) -> Option<(Aabb, Vec3)> {
-        let ((lo, hi), d) = b?;
-        let r = d - self.frame;
-        Some(((lo + r.min(Vec3::ZERO), hi + r.max(Vec3::ZERO)), d))
+        let (b, d) = b?;
+        Some((b.swept(d - self.frame), d))
     }
 }
 
 /// The fat box of box `b` moving `d` a step: swept over `steps` steps of that move,
 /// grown by [`MARGIN`] of its width on every side. A NaN box stays NaN (and never holds).
-fn fatten(((lo, hi), d): (Aabb, Vec3), steps: Real) -> Aabb {
-    let ahead = d * steps;
-    let grow = Vec3::splat(MARGIN * (hi - lo).max_element());
-    (
-        lo + ahead.min(Vec3::ZERO) - grow,
-        hi + ahead.max(Vec3::ZERO) + grow,
-    )
+fn fatten((b, d): (Aabb, Vec3), steps: Real) -> Aabb {
+    b.swept(d * steps).grown(Vec3::splat(MARGIN * b.widest()))
 }
 
 #[cfg(test)]
@@ -469,7 +461,7 @@ mod tests {
                     }
                     at[k] += d;
                     let h = Vec3::splat(0.2 + 0.1 * (k % 3) as Real);
-                    Some(((at[k] - h, at[k] + h), d))
+                    Some((Aabb::new(at[k] - h, at[k] + h), d))
                 })
                 .collect();
             let keep = |a: u32, b: u32| !(a + b).is_multiple_of(5);
@@ -520,7 +512,7 @@ mod tests {
                 .map(|k| {
                     let (c, d) = (at(k, t), at(k, t + 1.0) - at(k, t));
                     let h = Vec3::splat(0.3);
-                    Some(((c - h, c + h), d))
+                    Some((Aabb::new(c - h, c + h), d))
                 })
                 .collect()
         });
@@ -534,7 +526,7 @@ mod tests {
         );
     }
 
-    /// AabbF32 boxes flying apart with few pairs among them: after a filing that found few
+    /// Small boxes flying apart with few pairs among them: after a filing that found few
     /// candidates, fat boxes cover more steps (fewer filings), and the kept pairs are still
     /// the grid's own every call.
     #[test]
@@ -548,7 +540,7 @@ mod tests {
                 .map(|k| {
                     at[k] += v[k];
                     let h = Vec3::splat(0.05 + 0.1 * (k % 4) as Real);
-                    Some(((at[k] - h, at[k] + h), v[k]))
+                    Some((Aabb::new(at[k] - h, at[k] + h), v[k]))
                 })
                 .collect()
         });
@@ -584,7 +576,7 @@ mod tests {
                     let d = at - last[k];
                     last[k] = at;
                     let h = Vec3::splat(0.5);
-                    Some(((at - h, at + h), d))
+                    Some((Aabb::new(at - h, at + h), d))
                 })
                 .collect()
         });

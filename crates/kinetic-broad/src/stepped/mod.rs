@@ -1,0 +1,17 @@
+//! The stepped half of the broad phase: the pairs of a set of boxes found afresh each step,
+//! for worlds whose bodies do not keep to flight plans (a pile, a settling rain, a dense gas).
+//!
+//! - `grid.rs`: the stepped grid, the pairs of overlapping boxes from scratch.
+//! - `sweep.rs`: sort and sweep, for a few boxes or boxes that overlap few others on an axis.
+//! - `fat_pairs.rs`: the grid's pairs kept from step to step while the boxes keep within fat
+//!   boxes (debris, bursts, kinematic bodies on their paths).
+//!
+//! The kinetic half ([`crate::kinetic`]) decides when to step and hands the pairs found here
+//! to the engine.
+
+mod fat_pairs;
+mod grid;
+mod sweep;
+
+pub(crate) use fat_pairs::FatPairs;
+pub(crate) use grid::SteppedGrid;
