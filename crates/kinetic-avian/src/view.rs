@@ -38,6 +38,7 @@ type ColliderItem = (
     &'static Position,
     &'static Rotation,
     &'static EnlargedAabb,
+    &'static ColliderAabb,
     Option<&'static ColliderOf>,
     Option<&'static CollisionMargin>,
     Option<&'static ColliderTreeProxyKey>,
@@ -107,7 +108,7 @@ impl AvianWorld<'_, '_> {
     /// Collider `k`, if it is there and enabled.
     pub(crate) fn collider_view(&self, k: Key) -> Option<ColliderView<'_>> {
         let e = entity(k)?;
-        let (_, _, _, enlarged, _, _, proxy, disabled) = self.colliders.get(e).ok()?;
+        let (_, _, _, enlarged, _, _, _, proxy, disabled) = self.colliders.get(e).ok()?;
         (!disabled).then_some(ColliderView {
             entity: e,
             enlarged,
@@ -133,7 +134,7 @@ impl Engine for AvianWorld<'_, '_> {
         let Some(e) = entity(c) else {
             return ColliderStatus::Missing;
         };
-        let Ok((collider, pos, rot, _, of, margin, _, disabled)) = self.colliders.get(e) else {
+        let Ok((collider, pos, rot, _, _, of, margin, _, disabled)) = self.colliders.get(e) else {
             return ColliderStatus::Missing;
         };
         if disabled {
@@ -162,11 +163,18 @@ impl Engine for AvianWorld<'_, '_> {
         }
     }
 
+    /// avian's own box of the collider (`ColliderAabb`, grown by its contact tolerance and
+    /// collision margin, swept where speculative CCD asks), as avian's tree upkeep left it
+    /// before the broad phase runs; computed here only for a box avian has not filled yet.
     fn bounds(&self, c: Key) -> Option<Aabb> {
-        let (collider, pos, rot, _, _, margin, _, disabled) =
+        let (collider, pos, rot, _, aabb, _, margin, _, disabled) =
             self.colliders.get(entity(c)?).ok()?;
         if disabled {
             return None;
+        }
+        let (min, max) = (dvec!(aabb.min), dvec!(aabb.max));
+        if min.is_finite() && max.is_finite() && min.cmple(max).all() {
+            return Some(Aabb::new(min, max));
         }
         let aabb = collider.aabb(pos.0, *rot, 0.0);
         let m = Vec3::splat(self.margin(margin));
