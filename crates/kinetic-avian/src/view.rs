@@ -116,6 +116,11 @@ impl AvianWorld<'_, '_> {
         })
     }
 
+    /// Whether body `b` sleeps.
+    pub(crate) fn is_sleeping(&self, b: Entity) -> bool {
+        self.bodies.get(b).is_ok_and(|item| item.5)
+    }
+
     /// Whether entity `e` is a static body (or no body).
     pub(crate) fn is_static_body(&self, e: Option<Entity>) -> bool {
         e.and_then(|b| self.bodies.get(b).ok())
@@ -211,12 +216,17 @@ impl Changes<'_, '_> {
     /// move and are awake.
     pub(crate) fn collect(&mut self, world: &AvianWorld) -> (Vec<Key>, Vec<Key>, Vec<Key>) {
         let mut modified: Vec<Key> = self.changed.iter().map(key).collect();
-        modified.extend(
-            self.placed
-                .iter()
-                .filter(|(_, of)| world.is_static_body(of.map(|of| of.body)))
-                .map(|(e, _)| key(e)),
-        );
+        let mut moved = Vec::new();
+        for (e, of) in &self.placed {
+            let body = of.map(|of| of.body);
+            if world.is_static_body(body) {
+                modified.push(key(e));
+            } else if body.is_some_and(|b| world.is_sleeping(b)) {
+                // Moved in the last step, then fell asleep (or was put to sleep) before this
+                // call: its box is where the step left it.
+                moved.push(key(e));
+            }
+        }
         for colliders in &self.retyped {
             modified.extend(colliders.iter().map(key));
         }
@@ -226,7 +236,6 @@ impl Changes<'_, '_> {
         let mut removed: Vec<Key> = self.removed.read().map(key).collect();
         removed.sort_unstable();
         removed.dedup();
-        let mut moved = Vec::new();
         for (rb, colliders) in &self.awake {
             if !rb.is_static() {
                 moved.extend(colliders.iter().map(key));

@@ -73,6 +73,27 @@ fn kinematic_bodies_touch_as_with_avians_broad_phase() {
     }
 }
 
+/// A draw of the engine scene space: columns of boxes, most asleep, a few bodies dropped and
+/// fast ones flying through. The broad phase steps and files only the moving boxes each step,
+/// and misses no pair.
+#[test]
+fn a_mostly_sleeping_stack_files_only_its_moving_boxes_and_misses_no_pair() {
+    let draw = kinetic_scenes::engines::space::draw(13);
+    let mut ours = app(Broad::Kinetic);
+    let entities = kinetic_scenes::avian::spawn(&draw.scene, ours.world_mut());
+    // The first update sets the clocks; the second steps, making the islands to sleep in.
+    step(&mut ours);
+    step(&mut ours);
+    kinetic_scenes::avian::put_to_sleep(&draw.scene, ours.world_mut(), &entities);
+    for k in 0..15 {
+        let missing = step_missing(&mut ours, 0.01);
+        assert!(missing.is_empty(), "step {k}: {missing:?}");
+    }
+    let stats = kinetic(&ours).stats();
+    assert!(stats.rest_filings > 0, "{stats:?}");
+    assert_eq!(kinetic(&ours).structure_name(), "stepped");
+}
+
 /// Balls and boxes dropped in layers onto a ground.
 fn rain(app: &mut App, seed: u64, n: usize) {
     ground(app);

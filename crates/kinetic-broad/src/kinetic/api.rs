@@ -93,6 +93,7 @@ impl BroadPhaseCore {
                 candidates: st.reported.len(),
                 fat_filings: self.stats.fat_filings + filings,
                 refattened: self.stats.refattened + refattened,
+                rest_filings: self.stats.rest_filings + st.rest_filings(),
                 ..self.stats
             };
         }

@@ -33,7 +33,7 @@
 
 use super::{BroadPhaseCore, REGION_MARGIN, REGION_STEPS};
 use crate::Aabb;
-use crate::stepped::FatPairs;
+use crate::stepped::{FatPairs, Resting};
 use crate::{Bound, Engine, Key, PairEvent};
 use kinetic_core::{Real, Vec3};
 use kinetic_flight::LOOSE_TRAVEL;
@@ -102,6 +102,11 @@ pub(super) struct Stepped {
     /// The loose grid's re-anchors an update would take for the boxes' moves, as last
     /// worked out (on the updates that count re-plans).
     anchors: Real,
+    /// The boxes at rest, filed between calls; per collider index, the last call in which
+    /// its box changed; and the calls, counted from 1.
+    resting: Resting,
+    changed: Vec<u64>,
+    calls: u64,
 }
 
 /// What decides the mode.
@@ -149,6 +154,11 @@ impl Stepped {
         (self.grid.rebuilds, self.grid.refattened)
     }
 
+    /// Times the resting boxes were filed.
+    pub(super) fn rest_filings(&self) -> u64 {
+        self.resting.filings
+    }
+
     /// Whether this position update's re-plans price a kinetic step.
     fn counting(&self) -> bool {
         self.updates % self.price_every() == 2
@@ -194,6 +204,7 @@ impl Stepped {
             self.boxes.resize(i + 1, None);
             self.history.resize(i + 1, None);
         }
+        self.changed_now(i);
         let Some(b) = b else {
             self.boxes[i] = None;
             self.history[i] = None;
@@ -216,9 +227,19 @@ impl Stepped {
         }
     }
 
+    /// Notes that collider `i`'s box changes in this call.
+    #[inline(always)]
+    fn changed_now(&mut self, i: usize) {
+        if self.changed.len() <= i {
+            self.changed.resize(i + 1, 0);
+        }
+        self.changed[i] = self.calls + 1;
+    }
+
     /// Forgets collider `i`'s box and (`silent`) its pairs: the engine drops a removed
     /// collider's pairs itself.
     pub(super) fn forget(&mut self, i: u32, silent: bool) {
+        self.changed_now(i as usize);
         if let Some(b) = self.boxes.get_mut(i as usize) {
             *b = None;
         }
@@ -359,6 +380,7 @@ impl BroadPhaseCore {
         let (filings, refattened) = st.fat_counts();
         self.stats.fat_filings += filings;
         self.stats.refattened += refattened;
+        self.stats.rest_filings += st.rest_filings();
         self.adopting = Some(st.reported);
         self.clock.kds = self.clock.pos;
         // Bodies at rest are held by fat boxes again.
@@ -405,6 +427,7 @@ impl BroadPhaseCore {
             st.boxes.resize(self.proxies.len(), None);
             st.history.resize(self.proxies.len(), None);
         }
+        st.changed.resize(st.boxes.len(), 0);
         let dt = self.clock.dt;
         let pending = if std::mem::take(&mut st.all) {
             st.pending.clear();
@@ -414,6 +437,7 @@ impl BroadPhaseCore {
         };
         for &i in &pending {
             let i = i as usize;
+            st.changed_now(i);
             let Some(p) = self.proxies.get(i).copied().flatten() else {
                 st.boxes[i] = None;
                 st.history[i] = None;
@@ -450,6 +474,37 @@ impl BroadPhaseCore {
         if st.counting() {
             st.anchors = anchors(&st.boxes);
         }
+        st.calls += 1;
+        // Where many boxes rest, only those that moved are filed: a resting box moves
+        // nothing over the step.
+        let (boxes, changed, call) = (&st.boxes, &st.changed, st.calls);
+        let still = |i: u32| {
+            boxes[i as usize].map(|(b, d)| {
+                (
+                    b,
+                    if changed[i as usize] < call {
+                        Vec3::ZERO
+                    } else {
+                        d
+                    },
+                )
+            })
+        };
+        let keep_still = |a: u32, b: u32| match (still(a), still(b)) {
+            (Some(x), Some(y)) => meet_within_step(x, y),
+            _ => true,
+        };
+        let split = st
+            .resting
+            .pairs(boxes, changed, call, &keep_still, &mut st.found);
+        if !split {
+            Self::plain_pairs(st);
+        }
+        self.hand_difference(st, events);
+    }
+
+    /// The stepped pairs of every box, from the fat boxes or the grid.
+    fn plain_pairs(st: &mut Stepped) {
         // Of the pairs whose swept boxes overlap, those whose boxes meet as they move: two
         // bodies falling side by side are not a pair.
         // Two boxes meet as they move in any frame that moves steadily: the boxes are swept
@@ -470,6 +525,10 @@ impl BroadPhaseCore {
             _ => true,
         };
         st.grid.pairs(boxes, frame, &keep, &mut st.found);
+    }
+
+    /// Hands the engine the difference between the pairs it has and this call's.
+    fn hand_difference(&mut self, st: &mut Stepped, events: &mut Vec<PairEvent>) {
         // The difference, in order: deletes of pairs gone, adds of pairs new.
         let (old, new) = (&st.reported, &st.found);
         let (mut i, mut j) = (0, 0);

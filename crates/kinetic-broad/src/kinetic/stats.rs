@@ -34,6 +34,9 @@ pub struct BroadPhaseStats {
     pub fat_filings: u64,
     /// Stepped: colliders that left their fat boxes and were given new ones on their own.
     pub refattened: u64,
+    /// Stepped: times the resting colliders (sleeping, fixed) were filed afresh, where most
+    /// rest and only the moving ones are filed each step.
+    pub rest_filings: u64,
 }
 
 /// Figures over the last physics step.

@@ -157,6 +157,15 @@ impl SteppedGrid {
         self.runs(s, s + 1)
     }
 
+    /// A grid that never sorts and sweeps: one that is looked up far more than it is filed
+    /// (a sweep's look-up passes over every box below the one looked up).
+    pub(crate) fn for_lookups() -> SteppedGrid {
+        SteppedGrid {
+            no_sweep: true,
+            ..SteppedGrid::default()
+        }
+    }
+
     /// Takes the median box again at the next call, in the nested grids too: the boxes to
     /// come are of another kind (fat boxes after plain ones, or fatter ones).
     pub(crate) fn remeasure(&mut self) {

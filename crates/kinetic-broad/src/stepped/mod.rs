@@ -5,13 +5,17 @@
 //! - `sweep.rs`: sort and sweep, for a few boxes or boxes that overlap few others on an axis.
 //! - `fat_pairs.rs`: the grid's pairs kept from step to step while the boxes keep within fat
 //!   boxes (debris, bursts, kinematic bodies on their paths).
+//! - `resting.rs`: the boxes at rest (sleeping, fixed) kept filed between steps, so that only
+//!   the boxes that moved are filed each step.
 //!
 //! The kinetic half ([`crate::kinetic`]) decides when to step and hands the pairs found here
 //! to the engine.
 
 mod fat_pairs;
 mod grid;
+mod resting;
 mod sweep;
 
 pub(crate) use fat_pairs::FatPairs;
 pub(crate) use grid::SteppedGrid;
+pub(crate) use resting::Resting;
