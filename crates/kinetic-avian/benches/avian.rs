@@ -128,23 +128,7 @@ fn space_draws(from: u64, count: u64, steps: usize, repeat: usize, csv: &str) {
         println!("| {seed} | {d} | {s:.2}x | {b:.2}x | {p:.2}x | {name} |");
         rows.push(row);
     }
-    let [worst, median] = results::worst_and_median(&rows);
-    println!(
-        "\nworst: step {:.2}x, broad phase {:.2}x, pairs {:.2}x; median: step {:.2}x, broad phase {:.2}x, pairs {:.2}x ({} draws)",
-        worst[0],
-        worst[1],
-        worst[2],
-        median[0],
-        median[1],
-        median[2],
-        rows.len()
-    );
-    let existing = std::fs::read_to_string(csv).unwrap_or_default();
-    let text = results::merge(&existing, "avian", &results::csv_lines("avian", &rows));
-    match std::fs::write(csv, text) {
-        Ok(()) => println!("wrote {csv}"),
-        Err(e) => eprintln!("could not write {csv}: {e}"),
-    }
+    results::report("avian", &rows, csv);
 }
 
 fn main() {

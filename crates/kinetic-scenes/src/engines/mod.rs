@@ -168,6 +168,20 @@ fn ground(half: f32) -> Piece {
     Piece::fixed(PieceShape::Cuboid([half, 0.5, half]), [0.0, -0.5, 0.0])
 }
 
+/// Six fixed slabs `t` thick closing the cube of half-width `half` about the origin.
+fn closed_box(half: f32, t: f32) -> Vec<Piece> {
+    let w = half + t;
+    let wall = |at: [f32; 3], h: [f32; 3]| Piece::fixed(PieceShape::Cuboid(h), at);
+    vec![
+        wall([0.0, -half - t, 0.0], [w, t, w]),
+        wall([0.0, half + t, 0.0], [w, t, w]),
+        wall([-half - t, 0.0, 0.0], [t, w, w]),
+        wall([half + t, 0.0, 0.0], [t, w, w]),
+        wall([0.0, 0.0, -half - t], [w, w, t]),
+        wall([0.0, 0.0, half + t], [w, w, t]),
+    ]
+}
+
 /// A scene: its pieces and the gravity it runs under.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EngineScene {
@@ -282,16 +296,7 @@ pub fn pile(n: usize, seed: u64) -> EngineScene {
 pub fn gas(n: usize, seed: u64) -> EngineScene {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let half = (n as f32 * 4.2 * 0.15f32.powi(3) / 0.05).cbrt() / 2.0;
-    let wall = |at: [f32; 3], h: [f32; 3]| Piece::fixed(PieceShape::Cuboid(h), at);
-    let (w, t) = (half + 0.5, 0.5);
-    let mut pieces = vec![
-        wall([0.0, -half - t, 0.0], [w, t, w]),
-        wall([0.0, half + t, 0.0], [w, t, w]),
-        wall([-half - t, 0.0, 0.0], [t, w, w]),
-        wall([half + t, 0.0, 0.0], [t, w, w]),
-        wall([0.0, 0.0, -half - t], [w, w, t]),
-        wall([0.0, 0.0, half + t], [w, w, t]),
-    ];
+    let mut pieces = closed_box(half, 0.5);
     let inner = half - 0.25;
     for _ in 0..n {
         let position = draw3(&mut rng, inner);

@@ -123,6 +123,28 @@ pub fn csv_lines(engine: &str, rows: &[DrawRow]) -> Vec<String> {
     lines
 }
 
+/// Prints the worst and the median of `engine`'s `rows`, and writes them with the rows as
+/// `engine`'s lines of the CSV file `path`, keeping the other engines' lines.
+pub fn report(engine: &str, rows: &[DrawRow], path: &str) {
+    let [worst, median] = worst_and_median(rows);
+    println!(
+        "\nworst: step {:.2}x, broad phase {:.2}x, pairs {:.2}x; median: step {:.2}x, broad phase {:.2}x, pairs {:.2}x ({} draws)",
+        worst[0],
+        worst[1],
+        worst[2],
+        median[0],
+        median[1],
+        median[2],
+        rows.len()
+    );
+    let existing = std::fs::read_to_string(path).unwrap_or_default();
+    let text = merge(&existing, engine, &csv_lines(engine, rows));
+    match std::fs::write(path, text) {
+        Ok(()) => println!("wrote {path}"),
+        Err(e) => eprintln!("could not write {path}: {e}"),
+    }
+}
+
 /// `existing` (a CSV file's text, empty if none) with `engine`'s lines replaced by `lines`:
 /// the other engines' lines kept, in their order, this engine's after them.
 pub fn merge(existing: &str, engine: &str, lines: &[String]) -> String {

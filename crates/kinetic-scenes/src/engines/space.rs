@@ -7,7 +7,7 @@
 //! 50,000). The engine benches run their draws side by side with each engine's own broad
 //! phase, so that their figures are those of scenes nobody tuned for.
 
-use super::{EngineScene, Piece, PieceShape, draw3, ground, scene};
+use super::{EngineScene, Piece, PieceShape, closed_box, draw3, ground, scene};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::fmt;
@@ -394,16 +394,7 @@ fn gas(rng: &mut ChaCha8Rng, axes: &Axes, n: usize) -> Laid {
     let fraction = 0.2 / (1.0 + 3.0 * axes.gap);
     let giant = radii.iter().fold(0.0f32, |m, &r| m.max(r));
     let half = ((volume / fraction).cbrt() / 2.0).max(2.0 * giant);
-    let (w, t) = (half + 1.0, 1.0);
-    let wall = |at: [f32; 3], h: [f32; 3]| Piece::fixed(PieceShape::Cuboid(h), at);
-    let mut pieces = vec![
-        wall([0.0, -half - t, 0.0], [w, t, w]),
-        wall([0.0, half + t, 0.0], [w, t, w]),
-        wall([-half - t, 0.0, 0.0], [t, w, w]),
-        wall([half + t, 0.0, 0.0], [t, w, w]),
-        wall([0.0, 0.0, -half - t], [w, w, t]),
-        wall([0.0, 0.0, half + t], [w, w, t]),
-    ];
+    let mut pieces = closed_box(half, 1.0);
     for &r in &radii {
         let inner = (half - r).max(0.0);
         pieces.push(Piece {
