@@ -229,9 +229,10 @@ impl KineticBroadPhase {
     }
 
     /// The live pairs that may have to go into the contact graph this step: those new this
-    /// step and those of the colliders that moved or changed (`active`). A live pair of two
-    /// colliders that neither moved nor changed is as it was last step: in the graph if
-    /// their boxes overlapped, and they still do not if they did not.
+    /// step and those of the colliders changed or whose enlarged boxes moved (`active`). A
+    /// live pair of two colliders whose enlarged boxes did not move is as it was when last
+    /// checked: in the graph if those boxes overlapped (avian drops a pair only once they
+    /// stop), and still apart if they were apart.
     fn pairs_to_check(&mut self, active: &[Key]) -> Vec<(Key, Key)> {
         let mut pairs = std::mem::take(&mut self.fresh);
         for &a in active {
@@ -263,7 +264,8 @@ fn collect_pairs<H: CollisionHooks>(
     let start = std::time::Instant::now();
     let state = &mut *state;
     let step = world.step();
-    let (modified, removed, moved) = changes.collect(&world);
+    let every = !state.started || state.core.reads_every_move();
+    let (modified, removed, moved) = changes.collect(&world, &state.core, every);
     let mut events = Vec::new();
     if step.dt > 0.0 {
         let removed = if state.started {
@@ -287,8 +289,11 @@ fn collect_pairs<H: CollisionHooks>(
         state.apply(&events);
     }
     state.audit_now(&world, "at the start of the step");
+    // Of the live pairs, those that may have changed whether their enlarged boxes overlap:
+    // the new ones, and those of colliders changed or whose enlarged boxes avian moved. A
+    // collider that only jiggles within its enlarged box costs nothing here.
     let mut active = modified;
-    active.extend_from_slice(&moved);
+    active.extend(world.enlarged_moved());
     let check = state.pairs_to_check(&active);
     let added = graph::add_overlapping(
         &check,

@@ -1,14 +1,16 @@
 //! avian's colliders and bodies as the core sees them: entities as [`Key`]s, the ECS queries
 //! as an [`Engine`], and the changes since the last step.
 
-use avian3d::collider_tree::{ColliderTreeProxyKey, ColliderTrees};
+use avian3d::collider_tree::{ColliderTreeProxyKey, ColliderTrees, MovedProxies};
 use avian3d::collision::collider::EnlargedAabb;
 use avian3d::dynamics::joints::joint_graph::JointGraph;
 use avian3d::prelude::*;
 use bevy::ecs::entity::EntityGeneration;
 use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
-use kinetic_broad::{Aabb, BodyState, Bound, ColliderStatus, Engine, EngineStep, Key, Slack};
+use kinetic_broad::{
+    Aabb, BodyState, Bound, BroadPhaseCore, ColliderStatus, Engine, EngineStep, Key, Slack,
+};
 use kinetic_core::{Real, Vec3};
 
 /// An entity as a key: its index and generation.
@@ -77,6 +79,8 @@ pub(crate) struct AvianWorld<'w, 's> {
     bodies: Query<'w, 's, BodyItem>,
     all: Query<'w, 's, Entity, With<Collider>>,
     pub(crate) trees: Res<'w, ColliderTrees>,
+    /// The tree proxies whose enlarged boxes avian moved since the last broad phase.
+    moved_proxies: Res<'w, MovedProxies>,
     pub(crate) joints: Res<'w, JointGraph>,
     time: Res<'w, Time>,
     substeps: Res<'w, SubstepCount>,
@@ -103,6 +107,18 @@ impl AvianWorld<'_, '_> {
     /// Every collider's key.
     pub(crate) fn collider_keys(&self) -> Vec<Key> {
         self.all.iter().map(key).collect()
+    }
+
+    /// The colliders whose enlarged boxes (`EnlargedAabb`) avian moved since the last broad
+    /// phase: avian's own broad phase looks only at these, and a pair of two others keeps
+    /// whether their enlarged boxes overlap.
+    pub(crate) fn enlarged_moved(&self) -> Vec<Key> {
+        self.moved_proxies
+            .proxies()
+            .iter()
+            .filter_map(|&k| self.trees.get_proxy(k))
+            .map(|p| key(p.collider))
+            .collect()
     }
 
     /// Collider `k`, if it is there and enabled.
@@ -186,6 +202,16 @@ impl Engine for AvianWorld<'_, '_> {
         Some(Aabb::new(dvec!(aabb.min), dvec!(aabb.max)).grown(m))
     }
 
+    /// avian's `EnlargedAabb` of the collider: its own broad phase's box, moved only when
+    /// the collider's box leaves it (the pairs avian's narrow phase keeps are those whose
+    /// enlarged boxes overlap).
+    fn enlarged(&self, c: Key) -> Option<Aabb> {
+        let (_, _, _, enlarged, _, _, _, _, disabled) = self.colliders.get(entity(c)?).ok()?;
+        let (min, max) = (dvec!(enlarged.min), dvec!(enlarged.max));
+        (!disabled && min.is_finite() && max.is_finite() && min.cmple(max).all())
+            .then(|| Aabb::new(min, max))
+    }
+
     fn body(&self, b: Key) -> Option<BodyState> {
         let (_, pos, rot, com, v, sleeping) = self.bodies.get(entity(b)?).ok()?;
         Some(BodyState {
@@ -212,19 +238,28 @@ pub(crate) struct Changes<'w, 's> {
 }
 
 impl Changes<'_, '_> {
-    /// The colliders changed by the user (or new), those removed, and those on bodies that
-    /// move and are awake.
-    pub(crate) fn collect(&mut self, world: &AvianWorld) -> (Vec<Key>, Vec<Key>, Vec<Key>) {
+    /// The colliders changed by the user (or new), those removed, and those moved: with
+    /// `every` (the core reads every moved body), all those on bodies that move and are
+    /// awake; else those whose enlarged boxes avian moved.
+    pub(crate) fn collect(
+        &mut self,
+        world: &AvianWorld,
+        core: &BroadPhaseCore,
+        every: bool,
+    ) -> (Vec<Key>, Vec<Key>, Vec<Key>) {
         let mut modified: Vec<Key> = self.changed.iter().map(key).collect();
         let mut moved = Vec::new();
         for (e, of) in &self.placed {
+            let k = key(e);
             let body = of.map(|of| of.body);
-            if world.is_static_body(body) {
-                modified.push(key(e));
-            } else if body.is_some_and(|b| world.is_sleeping(b)) {
+            // A collider held on a moving body: its moves come with the body's.
+            let known = core.on_moving_body(k);
+            if !known && world.is_static_body(body) {
+                modified.push(k);
+            } else if every && body.is_some_and(|b| world.is_sleeping(b)) {
                 // Moved in the last step, then fell asleep (or was put to sleep) before this
                 // call: its box is where the step left it.
-                moved.push(key(e));
+                moved.push(k);
             }
         }
         for colliders in &self.retyped {
@@ -236,10 +271,14 @@ impl Changes<'_, '_> {
         let mut removed: Vec<Key> = self.removed.read().map(key).collect();
         removed.sort_unstable();
         removed.dedup();
-        for (rb, colliders) in &self.awake {
-            if !rb.is_static() {
-                moved.extend(colliders.iter().map(key));
+        if every {
+            for (rb, colliders) in &self.awake {
+                if !rb.is_static() {
+                    moved.extend(colliders.iter().map(key));
+                }
             }
+        } else {
+            moved.extend(world.enlarged_moved());
         }
         (modified, removed, moved)
     }

@@ -70,6 +70,18 @@ pub trait Engine {
         let _ = c;
         None
     }
+    /// Collider `c`'s enlarged box, if the engine keeps one as its own broad phase does: a
+    /// box about [`Engine::bounds`] that the engine moves only when the collider leaves it
+    /// (avian's `EnlargedAabb`). A stepped world then files this box as it is, unswept, and
+    /// reads it again only for the colliders the engine lists as moved, so that a body
+    /// jostling inside its box costs nothing; the engine must then list as moved every
+    /// collider whose enlarged box it moved (and every awake one while
+    /// [`crate::BroadPhaseCore::reads_every_move`] says so). The default, `None`: boxes are
+    /// read for every moved collider and swept over the step.
+    fn enlarged(&self, c: Key) -> Option<Aabb> {
+        let _ = c;
+        None
+    }
 }
 
 /// The engine's step.

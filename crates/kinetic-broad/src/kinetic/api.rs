@@ -12,6 +12,7 @@ impl BroadPhaseCore {
         BroadPhaseCore {
             loose_grid: None,
             choice_given: false,
+            engine_boxes: false,
             stepped: None,
             meter: Default::default(),
             adopting: None,
@@ -137,6 +138,27 @@ impl BroadPhaseCore {
                 .is_ok(),
             None => self.book.has(a.index, b.index),
         }
+    }
+
+    /// Whether the next position update reads every moved body: always in a kinetic world
+    /// (its plans), and on the stepped updates that price a kinetic step or switch. On the
+    /// others, an engine that gives enlarged boxes ([`crate::Engine::enlarged`]) need list
+    /// only the colliders whose enlarged boxes it moved.
+    pub fn reads_every_move(&self) -> bool {
+        self.meter_switching()
+            || self
+                .stepped
+                .as_ref()
+                .is_none_or(|st| st.full() && !self.engine_boxes)
+    }
+
+    /// Whether collider `c` is held on a moving body (its moves come with its body's).
+    pub fn on_moving_body(&self, c: Key) -> bool {
+        self.movers
+            .get(c.index as usize)
+            .copied()
+            .flatten()
+            .is_some_and(|(g, body)| g == c.generation && body != u32::MAX)
     }
 
     /// Whether collider `c` is held.

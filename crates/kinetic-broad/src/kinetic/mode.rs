@@ -27,6 +27,12 @@
 //! most of its bodies sleep. A world steps only when the broad phase picked the structure
 //! itself: a caller's choice ([`BroadPhaseCore::with_loose_grid`]) stays kinetic.
 //!
+//! An engine that keeps enlarged boxes of its own ([`Engine::enlarged`], avian's) steps for
+//! good, on those boxes: it moves a box only when its collider leaves it and lists those
+//! colliders, so a stepped call costs in proportion to the boxes it moved, while a kinetic
+//! step reads every awake body to hold it to its plan. Its pairs are then exactly those its
+//! own broad phase would find.
+//!
 //! The pairs the engine has are carried over at a switch: to the stepped grid's, with adds
 //! and deletes for the difference, and back to the kinetic book, which adopts those it holds
 //! and deletes the others.
@@ -184,11 +190,14 @@ impl Stepped {
                 let i = (word * 64) as u32 + bits.trailing_zeros();
                 bits &= bits - 1;
                 if let Some(&Some((generation, _))) = movers.get(i as usize) {
-                    let b = engine.bounds(Key {
+                    let k = Key {
                         index: i,
                         generation,
-                    });
-                    self.track(i, b);
+                    };
+                    match engine.enlarged(k) {
+                        Some(b) => self.keep_enlarged(i, b),
+                        None => self.track(i, engine.bounds(k)),
+                    }
                 }
             }
         }
@@ -225,6 +234,23 @@ impl Stepped {
                 self.pending.push(i as u32);
             }
         }
+    }
+
+    /// Collider `i`'s enlarged box is `b` ([`Engine::enlarged`]): filed as it is, and
+    /// changed only if the engine moved it.
+    #[inline(always)]
+    fn keep_enlarged(&mut self, i: u32, b: Aabb) {
+        let i = i as usize;
+        if self.boxes.len() <= i {
+            self.boxes.resize(i + 1, None);
+            self.history.resize(i + 1, None);
+        }
+        if self.boxes[i] == Some((b, Vec3::ZERO)) {
+            return;
+        }
+        self.changed_now(i);
+        self.boxes[i] = Some((b, Vec3::ZERO));
+        self.history[i] = Some((b.centre(), None));
     }
 
     /// Notes that collider `i`'s box changes in this call.
@@ -267,7 +293,7 @@ impl BroadPhaseCore {
     /// At the end of a step: prices it both ways, and calls for a switch if the other way
     /// is cheaper.
     pub(super) fn weigh(&mut self) {
-        if !self.may_step() {
+        if !self.may_step() || (self.engine_boxes && self.is_stepped()) {
             return;
         }
         let held = self.held as Real;
@@ -335,6 +361,11 @@ impl BroadPhaseCore {
             m.switched = steps;
             m.switch = true;
         }
+    }
+
+    /// Whether the next position update switches.
+    pub(super) fn meter_switching(&self) -> bool {
+        self.meter.switch
     }
 
     /// At the start of a position update: makes the switch the last step's costs called for.
@@ -449,6 +480,11 @@ impl BroadPhaseCore {
             st.boxes[i] = Some(match p.hold {
                 Bound::Fixed { min, max } => (Aabb::new(min, max), Vec3::ZERO),
                 Bound::Moving { body, radius, .. } => {
+                    if let Some(b) = engine.enlarged(p.key) {
+                        st.history[i] = Some((b.centre(), None));
+                        st.boxes[i] = Some((b, Vec3::ZERO));
+                        continue;
+                    }
                     let rb = engine.body(body);
                     let v = rb.map_or(Vec3::ZERO, |rb| rb.velocity);
                     let m = self.motions.get(body);

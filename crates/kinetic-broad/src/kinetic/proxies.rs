@@ -171,6 +171,9 @@ impl BroadPhaseCore {
             .collect();
         if self.loose_grid.is_none() {
             self.loose_grid = Some(loose_grid_fits(&holds));
+            self.engine_boxes = holds.iter().any(|&(h, hold, _)| {
+                matches!(hold, Bound::Moving { .. }) && engine.enlarged(h).is_some()
+            });
         }
         if self.structure.is_none() && !self.is_stepped() {
             // A world starts stepped, its first steps showing whether plans hold, unless most
@@ -182,7 +185,8 @@ impl BroadPhaseCore {
                     asleep += usize::from(state.sleeping);
                 }
             }
-            if self.may_step() && 2 * asleep < moving.max(1) {
+            // An engine that keeps enlarged boxes: stepped for good (see `mode.rs`).
+            if self.may_step() && (self.engine_boxes || 2 * asleep < moving.max(1)) {
                 self.stepped = Some(Default::default());
             } else {
                 self.structure = Some(new_structure(self.in_loose_grid(), step.dt));

@@ -95,12 +95,14 @@ impl Resting {
         // One pass: the boxes resting, and those whose standing changed since the filing
         // (members no longer resting as filed, resting ones not filed).
         let filed_at = self.filed_at;
-        let (mut resting, mut members, mut stale) = (0, 0, 0);
+        let (mut resting, mut members, mut stale, mut lost) = (0, 0, 0, 0);
         for i in 0..n {
             let (rest, filed) = (rests(i), self.filed[i]);
+            let still = rest && (!filed || changed[i] < filed_at);
             resting += usize::from(rest);
             members += usize::from(filed);
-            stale += usize::from(filed != (rest && (!filed || changed[i] < filed_at)));
+            stale += usize::from(filed != still);
+            lost += usize::from(filed && !still);
         }
         if resting * REST_SHARE < REST_OF * n {
             self.ready = false;
@@ -109,7 +111,8 @@ impl Resting {
         if self.ready && stale > members / STALE_SHARE + STALE_MIN {
             self.ready = false;
         }
-        if !self.ready {
+        let refiled = !self.ready;
+        if refiled {
             self.file(boxes, &rests, call, keep);
         }
         let filed_at = self.filed_at;
@@ -147,6 +150,11 @@ impl Resting {
         // The members' own pairs, those of both still members.
         out.clear();
         merge(&self.own, &self.cross, &mut self.merged);
+        if refiled || lost == 0 {
+            // Every box filed is (still) a member: all their pairs stand.
+            merge(&self.pairs, &self.merged, out);
+            return true;
+        }
         let kept = self
             .pairs
             .iter()
