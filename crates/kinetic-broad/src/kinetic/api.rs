@@ -91,7 +91,7 @@ impl BroadPhaseCore {
             let (filings, refattened) = st.fat_counts();
             return BroadPhaseStats {
                 pairs: self.handed.handed(),
-                candidates: st.reported.len(),
+                candidates: st.pair_count(),
                 fat_filings: self.stats.fat_filings + filings,
                 refattened: self.stats.refattened + refattened,
                 rest_filings: self.stats.rest_filings + st.rest_filings(),
@@ -132,10 +132,7 @@ impl BroadPhaseCore {
             return false;
         }
         match &self.stepped {
-            Some(st) => st
-                .reported
-                .binary_search(&(a.index.min(b.index), a.index.max(b.index)))
-                .is_ok(),
+            Some(st) => st.holds(a.index, b.index),
             None => self.book.has(a.index, b.index),
         }
     }
@@ -145,11 +142,7 @@ impl BroadPhaseCore {
     /// others, an engine that gives enlarged boxes ([`crate::Engine::enlarged`]) need list
     /// only the colliders whose enlarged boxes it moved.
     pub fn reads_every_move(&self) -> bool {
-        self.meter_switching()
-            || self
-                .stepped
-                .as_ref()
-                .is_none_or(|st| st.full() && !self.engine_boxes)
+        self.meter_switching() || self.stepped.as_ref().is_none_or(|st| st.full())
     }
 
     /// Whether collider `c` is held on a moving body (its moves come with its body's).

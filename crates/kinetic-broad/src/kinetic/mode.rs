@@ -39,7 +39,7 @@
 
 use super::{BroadPhaseCore, REGION_MARGIN, REGION_STEPS};
 use crate::Aabb;
-use crate::stepped::{FatPairs, Resting};
+use crate::stepped::{EnlargedPairs, FatPairs, Resting};
 use crate::{Bound, Engine, Key, PairEvent};
 use kinetic_core::{Real, Vec3};
 use kinetic_flight::LOOSE_TRAVEL;
@@ -83,8 +83,12 @@ pub(super) struct Stepped {
     /// Per collider index, its box now and how far it moves over the coming step (`None`:
     /// to be worked out).
     boxes: Vec<Option<(Aabb, Vec3)>>,
-    /// The pairs the engine has, sorted.
-    pub(super) reported: Vec<(u32, u32)>,
+    /// The pairs the engine has, sorted (on the engine's enlarged boxes: in `enlarged`).
+    reported: Vec<(u32, u32)>,
+    /// On the engine's enlarged boxes ([`Engine::enlarged`]): their pairs, kept per box.
+    enlarged: Option<Box<EnlargedPairs>>,
+    /// The colliders whose boxes changed in this call.
+    touched: Vec<u32>,
     /// This call's pairs.
     found: Vec<(u32, u32)>,
     /// Per collider index, its box's centre at the last call and how far it had moved
@@ -138,11 +142,52 @@ pub(super) struct Meter {
 }
 
 impl Stepped {
+    /// A stepped world's state: on the engine's enlarged boxes (`engine_boxes`), or on
+    /// boxes swept over each step.
+    pub(super) fn new(engine_boxes: bool) -> Stepped {
+        Stepped {
+            enlarged: engine_boxes.then(Default::default),
+            ..Stepped::default()
+        }
+    }
+
     /// Whether this position update passes over the moved bodies' plans (three running
     /// every [`PRICE_EVERY`], the third counting the re-plans) rather than only over the
-    /// moved colliders' boxes.
+    /// moved colliders' boxes; never on the engine's enlarged boxes (the world steps for
+    /// good).
     pub(super) fn full(&self) -> bool {
-        self.updates % self.price_every() < 3
+        self.enlarged.is_none() && self.updates % self.price_every() < 3
+    }
+
+    /// The pairs the engine has, sorted.
+    pub(super) fn pairs(&self) -> std::borrow::Cow<'_, [(u32, u32)]> {
+        match &self.enlarged {
+            Some(e) => e.sorted().into(),
+            None => (&self.reported[..]).into(),
+        }
+    }
+
+    /// How many pairs the engine has.
+    pub(super) fn pair_count(&self) -> usize {
+        self.enlarged
+            .as_ref()
+            .map_or(self.reported.len(), |e| e.count())
+    }
+
+    /// Whether the engine has the pair of colliders `a` and `b`.
+    pub(super) fn holds(&self, a: u32, b: u32) -> bool {
+        match &self.enlarged {
+            Some(e) => e.has(a, b),
+            None => self.reported.binary_search(&(a.min(b), a.max(b))).is_ok(),
+        }
+    }
+
+    /// The pairs the engine has, taken over by the kinetic book at a switch.
+    pub(super) fn into_pairs(self) -> Vec<(u32, u32)> {
+        match &self.enlarged {
+            Some(e) => e.sorted(),
+            None => self.reported,
+        }
     }
 
     /// Position updates from one pricing to the next: [`PRICE_EVERY`], spaced by
@@ -160,9 +205,9 @@ impl Stepped {
         (self.grid.rebuilds, self.grid.refattened)
     }
 
-    /// Times the resting boxes were filed.
+    /// Times the resting boxes (or the enlarged ones) were filed.
     pub(super) fn rest_filings(&self) -> u64 {
-        self.resting.filings
+        self.resting.filings + self.enlarged.as_ref().map_or(0, |e| e.filings)
     }
 
     /// Whether this position update's re-plans price a kinetic step.
@@ -259,7 +304,10 @@ impl Stepped {
         if self.changed.len() <= i {
             self.changed.resize(i + 1, 0);
         }
-        self.changed[i] = self.calls + 1;
+        if self.changed[i] != self.calls + 1 {
+            self.changed[i] = self.calls + 1;
+            self.touched.push(i as u32);
+        }
     }
 
     /// Forgets collider `i`'s box and (`silent`) its pairs: the engine drops a removed
@@ -273,7 +321,10 @@ impl Stepped {
             *h = None;
         }
         if silent {
-            self.reported.retain(|&(a, b)| a != i && b != i);
+            match self.enlarged.as_mut() {
+                Some(e) => e.forget(i),
+                None => self.reported.retain(|&(a, b)| a != i && b != i),
+            }
         }
     }
 }
@@ -412,7 +463,7 @@ impl BroadPhaseCore {
         self.stats.fat_filings += filings;
         self.stats.refattened += refattened;
         self.stats.rest_filings += st.rest_filings();
-        self.adopting = Some(st.reported);
+        self.adopting = Some(st.into_pairs());
         self.clock.kds = self.clock.pos;
         // Bodies at rest are held by fat boxes again.
         let resting: Vec<_> = self
@@ -511,6 +562,24 @@ impl BroadPhaseCore {
             st.anchors = anchors(&st.boxes);
         }
         st.calls += 1;
+        if let Some(mut enlarged) = st.enlarged.take() {
+            // The engine's enlarged boxes: the pairs of those it moved looked at again.
+            let boxes = &st.boxes;
+            let now = |i: u32| boxes.get(i as usize).copied().flatten().map(|(b, _)| b);
+            st.new.clear();
+            st.gone.clear();
+            enlarged.update(&st.touched, &now, &mut st.new, &mut st.gone);
+            st.enlarged = Some(enlarged);
+            st.touched.clear();
+            for &(a, b) in &st.new {
+                self.out_event(a, b, true, events);
+            }
+            for &(a, b) in &st.gone {
+                self.out_event(a, b, false, events);
+            }
+            return;
+        }
+        st.touched.clear();
         // Where many boxes rest, only those that moved are filed: a resting box moves
         // nothing over the step.
         let (boxes, changed, call) = (&st.boxes, &st.changed, st.calls);

@@ -1,7 +1,7 @@
 //! Colliders as proxies: put into the structure, taken out, and the structure picked for
 //! the first ones.
 
-use super::{BroadPhaseCore, Proxy, Structure};
+use super::{BroadPhaseCore, Proxy, Structure, mode};
 use super::{REGION_MARGIN, REGION_STEPS};
 use crate::Aabb;
 use crate::{BodyState, Bound, Engine, EngineStep, Key};
@@ -187,7 +187,7 @@ impl BroadPhaseCore {
             }
             // An engine that keeps enlarged boxes: stepped for good (see `mode.rs`).
             if self.may_step() && (self.engine_boxes || 2 * asleep < moving.max(1)) {
-                self.stepped = Some(Default::default());
+                self.stepped = Some(mode::Stepped::new(self.engine_boxes));
             } else {
                 self.structure = Some(new_structure(self.in_loose_grid(), step.dt));
             }

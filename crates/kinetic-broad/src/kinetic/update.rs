@@ -76,11 +76,7 @@ impl BroadPhaseCore {
         let mut moved: Vec<Key> = Vec::new();
         // A stepped world passes over its bodies only now and then: between, a position
         // update costs one box a moved collider.
-        let full = starts_step
-            || self
-                .stepped
-                .as_ref()
-                .is_none_or(|st| st.full() && !self.engine_boxes);
+        let full = starts_step || self.stepped.as_ref().is_none_or(|st| st.full());
         for &h in modified_colliders {
             if !starts_step {
                 // After a position update a held collider has only moved with its body (only

@@ -16,7 +16,7 @@ impl BroadPhaseCore {
         colliders: impl IntoIterator<Item = Key>,
     ) -> Result<(), String> {
         if let Some(st) = &self.stepped {
-            self.check_stepped(engine, &st.reported)?;
+            self.check_stepped(engine, &st.pairs())?;
         } else {
             if let Some(s) = &self.structure {
                 s.validate(&self.bodies, self.clock.kds)?;
@@ -26,7 +26,7 @@ impl BroadPhaseCore {
                 .map_err(|e| format!("{e}; window {} to {}", self.clock.pos, self.clock.kds))?;
         }
         let held = match &self.stepped {
-            Some(st) => st.reported.clone(),
+            Some(st) => st.pairs().into_owned(),
             None => self.book.reported_pairs(),
         };
         self.check_handed(engine, &held)?;

@@ -7,15 +7,19 @@
 //!   boxes (debris, bursts, kinematic bodies on their paths).
 //! - `resting.rs`: the boxes at rest (sleeping, fixed) kept filed between steps, so that only
 //!   the boxes that moved are filed each step.
+//! - `enlarged.rs`: the pairs of an engine's enlarged boxes (avian's), kept per box and
+//!   looked at only for the boxes the engine moved.
 //!
 //! The kinetic half ([`crate::kinetic`]) decides when to step and hands the pairs found here
 //! to the engine.
 
+mod enlarged;
 mod fat_pairs;
 mod grid;
 mod resting;
 mod sweep;
 
+pub(crate) use enlarged::EnlargedPairs;
 pub(crate) use fat_pairs::FatPairs;
 pub(crate) use grid::SteppedGrid;
 pub(crate) use resting::Resting;

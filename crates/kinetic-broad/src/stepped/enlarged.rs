@@ -1,0 +1,392 @@
+//! The pairs of boxes that an engine moves one at a time: its enlarged boxes (avian's
+//! `EnlargedAabb`), each moved only when its collider leaves it. A call looks only at the
+//! boxes that changed in it, so a world whose bodies jostle inside their boxes costs next to
+//! nothing, however many pairs it holds.
+//!
+//! The boxes are filed in a grid once ([`SteppedGrid`], for look-ups); a box that changes
+//! leaves the grid for a short list of *loose* boxes. Each changed box is looked up among
+//! the filed boxes that have not changed since and among the loose ones, and its pairs
+//! (kept per box) are brought to what it overlaps now, with an add or a delete for each
+//! difference. All the boxes are filed afresh once the loose ones are more than one in
+//! [`LOOSE_SHARE`] (plus [`LOOSE_MIN`]) of those filed, or where a call changes more than
+//! one box in [`MANY_SHARE`]: then the pairs are found afresh from the grid.
+
+use super::SteppedGrid;
+use crate::aabb::Aabb;
+
+/// The boxes are filed afresh once the loose ones are more than one in this many of those
+/// filed...
+const LOOSE_SHARE: usize = 8;
+/// ... plus this many.
+const LOOSE_MIN: usize = 16;
+/// A call that changes more than one box in this many finds every pair afresh.
+const MANY_SHARE: usize = 3;
+/// The loose boxes are filed in a grid of their own for a call's look-ups once the tests a
+/// scan would make are more than this many per box filed and looked up.
+const SCAN_MOST: usize = 32;
+
+/// The boxes, their pairs, and the grid they are filed in.
+#[derive(Clone, Debug)]
+pub(crate) struct EnlargedPairs {
+    /// Per index, its box now.
+    boxes: Vec<Option<Aabb>>,
+    /// Per index, the indices it is paired with (both ends hold each pair), and the pairs.
+    partners: Vec<Vec<u32>>,
+    count: usize,
+    /// The grid of the filed boxes, and per index whether its box is filed there (it has
+    /// not changed since).
+    grid: SteppedGrid,
+    filed: Vec<bool>,
+    filed_count: usize,
+    /// The boxes changed since they were filed, and per index whether it is among them.
+    loose: Vec<u32>,
+    is_loose: Vec<bool>,
+    /// A call's grid of the loose boxes, and scratch.
+    loose_grid: SteppedGrid,
+    found: Vec<u32>,
+    near: Vec<u32>,
+    all: Vec<(u32, u32)>,
+    /// How many times every box was filed afresh.
+    pub(crate) filings: u64,
+}
+
+impl Default for EnlargedPairs {
+    fn default() -> Self {
+        EnlargedPairs {
+            boxes: Vec::new(),
+            partners: Vec::new(),
+            count: 0,
+            grid: SteppedGrid::for_lookups(),
+            filed: Vec::new(),
+            filed_count: 0,
+            loose: Vec::new(),
+            is_loose: Vec::new(),
+            loose_grid: SteppedGrid::for_lookups(),
+            found: Vec::new(),
+            near: Vec::new(),
+            all: Vec::new(),
+            filings: 0,
+        }
+    }
+}
+
+impl EnlargedPairs {
+    /// The pairs held.
+    pub(crate) fn count(&self) -> usize {
+        self.count
+    }
+
+    /// Whether boxes `a` and `b` are paired.
+    pub(crate) fn has(&self, a: u32, b: u32) -> bool {
+        self.partners
+            .get(a as usize)
+            .is_some_and(|p| p.contains(&b))
+    }
+
+    /// Every pair `(a, b)`, `a < b`, sorted.
+    pub(crate) fn sorted(&self) -> Vec<(u32, u32)> {
+        let mut out: Vec<(u32, u32)> = (0..self.partners.len() as u32)
+            .flat_map(|a| {
+                self.partners[a as usize]
+                    .iter()
+                    .filter(move |&&b| a < b)
+                    .map(move |&b| (a, b))
+            })
+            .collect();
+        out.sort_unstable();
+        out
+    }
+
+    /// Makes room for index `i`.
+    fn reach(&mut self, i: usize) {
+        if self.boxes.len() <= i {
+            let n = i + 1;
+            self.boxes.resize(n, None);
+            self.partners.resize(n, Vec::new());
+            self.filed.resize(n, false);
+            self.is_loose.resize(n, false);
+        }
+    }
+
+    /// Drops box `i` and its pairs without a word (the engine drops a removed collider's
+    /// pairs itself).
+    pub(crate) fn forget(&mut self, i: u32) {
+        let i = i as usize;
+        self.reach(i);
+        self.unfile(i);
+        self.boxes[i] = None;
+        for j in std::mem::take(&mut self.partners[i]) {
+            self.partners[j as usize].retain(|&x| x as usize != i);
+            self.count -= 1;
+        }
+    }
+
+    /// Takes box `i` out of the grid (it changed) and out of the loose list.
+    fn unfile(&mut self, i: usize) {
+        if std::mem::take(&mut self.filed[i]) {
+            self.filed_count -= 1;
+        }
+        if std::mem::take(&mut self.is_loose[i]) {
+            let at = self.loose.iter().position(|&x| x as usize == i);
+            self.loose.swap_remove(at.expect("listed as loose"));
+        }
+    }
+
+    /// One call: the boxes of `changed` (indices, each once) are now `boxes_now(i)`; every
+    /// pair added is pushed onto `adds` and every pair gone onto `deletes`, as `(a, b)`,
+    /// `a < b`.
+    pub(crate) fn update(
+        &mut self,
+        changed: &[u32],
+        boxes_now: &dyn Fn(u32) -> Option<Aabb>,
+        adds: &mut Vec<(u32, u32)>,
+        deletes: &mut Vec<(u32, u32)>,
+    ) {
+        if let Some(&last) = changed.iter().max() {
+            self.reach(last as usize);
+        }
+        for &i in changed {
+            self.unfile(i as usize);
+            let b = boxes_now(i);
+            self.boxes[i as usize] = b;
+            if b.is_some() {
+                self.is_loose[i as usize] = true;
+                self.loose.push(i);
+            }
+        }
+        let held = self.filed_count + self.loose.len();
+        if changed.len() * MANY_SHARE > held || self.loose.len() > self.most_loose() {
+            if changed.len() * MANY_SHARE > held {
+                self.file_all_and_diff(adds, deletes);
+                return;
+            }
+            // Most boxes kept still: the changed ones looked up first, then all filed.
+            self.look_up(changed, adds, deletes);
+            self.file_all();
+            return;
+        }
+        self.look_up(changed, adds, deletes);
+    }
+
+    /// The most loose boxes before every box is filed afresh.
+    fn most_loose(&self) -> usize {
+        self.filed_count / LOOSE_SHARE + LOOSE_MIN
+    }
+
+    /// Brings the pairs of each box of `changed` to those it overlaps now.
+    fn look_up(
+        &mut self,
+        changed: &[u32],
+        adds: &mut Vec<(u32, u32)>,
+        deletes: &mut Vec<(u32, u32)>,
+    ) {
+        let scan =
+            changed.len() * self.loose.len() <= SCAN_MOST * (changed.len() + self.loose.len());
+        if !scan {
+            let boxes = &self.boxes;
+            let items = self
+                .loose
+                .iter()
+                .map(|&i| (i, boxes[i as usize].expect("loose")));
+            self.loose_grid.pairs(items, &|_, _| false, &mut self.all);
+        }
+        for &i in changed {
+            let mut near = std::mem::take(&mut self.near);
+            near.clear();
+            if let Some(b) = self.boxes[i as usize] {
+                self.found.clear();
+                self.grid.overlapping_with(&b, &mut self.found);
+                if scan {
+                    self.found.extend_from_slice(&self.loose);
+                } else {
+                    self.loose_grid.overlapping_with(&b, &mut self.found);
+                }
+                near.extend(self.found.iter().copied().filter(|&j| {
+                    j != i
+                        && (self.filed[j as usize] || self.is_loose[j as usize])
+                        && self.boxes[j as usize].is_some_and(|c| c.overlaps(&b))
+                }));
+                near.sort_unstable();
+                near.dedup();
+            }
+            self.set_partners(i, &near, adds, deletes);
+            self.near = near;
+        }
+    }
+
+    /// Box `i`'s partners become `near` (sorted): the pairs gone and new are noted at both
+    /// ends.
+    fn set_partners(
+        &mut self,
+        i: u32,
+        near: &[u32],
+        adds: &mut Vec<(u32, u32)>,
+        deletes: &mut Vec<(u32, u32)>,
+    ) {
+        let mut old = std::mem::take(&mut self.partners[i as usize]);
+        old.sort_unstable();
+        let pair = |j: u32| (i.min(j), i.max(j));
+        let (mut a, mut b) = (0, 0);
+        while a < old.len() || b < near.len() {
+            match (old.get(a), near.get(b)) {
+                (Some(x), Some(y)) if x == y => {
+                    a += 1;
+                    b += 1;
+                }
+                (Some(&x), y) if y.is_none_or(|&y| x < y) => {
+                    self.partners[x as usize].retain(|&k| k != i);
+                    self.count -= 1;
+                    deletes.push(pair(x));
+                    a += 1;
+                }
+                (_, Some(&y)) => {
+                    self.partners[y as usize].push(i);
+                    self.count += 1;
+                    adds.push(pair(y));
+                    b += 1;
+                }
+                _ => break,
+            }
+        }
+        old.clear();
+        old.extend_from_slice(near);
+        self.partners[i as usize] = old;
+    }
+
+    /// Files every box afresh; its pairs, found from the grid, go to `all`.
+    fn file_all(&mut self) {
+        self.filings += 1;
+        for &i in &self.loose {
+            self.is_loose[i as usize] = false;
+        }
+        self.loose.clear();
+        self.filed_count = 0;
+        for (f, b) in self.filed.iter_mut().zip(&self.boxes) {
+            *f = b.is_some();
+            self.filed_count += usize::from(*f);
+        }
+        let boxes = &self.boxes;
+        let items = (0..boxes.len() as u32).filter_map(|i| boxes[i as usize].map(|b| (i, b)));
+        let keep = |a: u32, b: u32| match (boxes[a as usize], boxes[b as usize]) {
+            (Some(x), Some(y)) => x.overlaps(&y),
+            _ => false,
+        };
+        self.grid.remeasure();
+        self.grid.pairs(items, &keep, &mut self.all);
+    }
+
+    /// Files every box afresh and brings every box's pairs to those found.
+    fn file_all_and_diff(&mut self, adds: &mut Vec<(u32, u32)>, deletes: &mut Vec<(u32, u32)>) {
+        self.file_all();
+        let all = std::mem::take(&mut self.all);
+        // The pairs found, grouped by their lower end (they come sorted).
+        let mut at = 0;
+        let mut near = std::mem::take(&mut self.near);
+        for i in 0..self.boxes.len() as u32 {
+            near.clear();
+            while at < all.len() && all[at].0 == i {
+                near.push(all[at].1);
+                at += 1;
+            }
+            // Of the old pairs, those with a lower end are settled from that end.
+            let mut upper = std::mem::take(&mut self.partners[i as usize]);
+            let lower: Vec<u32> = upper.iter().copied().filter(|&j| j < i).collect();
+            upper.retain(|&j| j > i);
+            self.partners[i as usize] = upper;
+            self.set_partners(i, &near, adds, deletes);
+            self.partners[i as usize].extend_from_slice(&lower);
+        }
+        self.near = near;
+        self.all = all;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::aabb::{next, next_vec, overlapping};
+    use kinetic_core::Vec3;
+    use std::collections::BTreeSet;
+
+    /// Boxes in a cube of which a few move, go and come each call, now and then many: the
+    /// pairs held, and those the adds and deletes build, are always those of every box.
+    #[test]
+    fn the_pairs_are_those_of_every_box_as_a_few_boxes_change_each_call() {
+        let mut s = 11u64;
+        let n = 500;
+        let mut boxes: Vec<Option<Aabb>> = (0..n)
+            .map(|_| {
+                let h = Vec3::splat(0.2 + next(&mut s) * 0.6);
+                Some(Aabb::about(next_vec(&mut s) * 15.0, h))
+            })
+            .collect();
+        let mut pairs = EnlargedPairs::default();
+        let mut built = BTreeSet::new();
+        let (mut adds, mut deletes) = (Vec::new(), Vec::new());
+        for call in 0..60 {
+            let share = match call {
+                0 => 1.0,
+                20 | 41 => 0.6,
+                _ => 0.01 + 0.02 * next(&mut s),
+            };
+            let mut changed = Vec::new();
+            for (i, b) in boxes.iter_mut().enumerate() {
+                if call > 0 && next(&mut s) >= share {
+                    continue;
+                }
+                changed.push(i as u32);
+                let u = next(&mut s);
+                *b = if u < 0.1 {
+                    None
+                } else {
+                    let h = Vec3::splat(0.2 + next(&mut s) * 0.6);
+                    Some(Aabb::about(next_vec(&mut s) * 15.0, h))
+                };
+            }
+            adds.clear();
+            deletes.clear();
+            pairs.update(&changed, &|i| boxes[i as usize], &mut adds, &mut deletes);
+            for p in &deletes {
+                assert!(built.remove(p), "call {call}: {p:?} deleted, not held");
+            }
+            for p in &adds {
+                assert!(built.insert(*p), "call {call}: {p:?} added twice");
+            }
+            let mut want = BTreeSet::new();
+            for a in 0..n {
+                for b in a + 1..n {
+                    if let (Some(x), Some(y)) = (boxes[a], boxes[b])
+                        && overlapping(&x, &y)
+                    {
+                        want.insert((a as u32, b as u32));
+                    }
+                }
+            }
+            assert_eq!(built, want, "call {call}");
+            assert_eq!(pairs.sorted(), want.iter().copied().collect::<Vec<_>>());
+            assert_eq!(pairs.count(), want.len());
+            if let Some(&(a, b)) = want.iter().next() {
+                assert!(pairs.has(a, b) && pairs.has(b, a));
+            }
+        }
+        assert!(
+            pairs.filings >= 3 && pairs.filings < 30,
+            "{}",
+            pairs.filings
+        );
+        // A box dropped without a word takes its pairs with it.
+        let i = (0..n)
+            .find(|&i| !pairs.partners[i].is_empty())
+            .expect("a pair");
+        let before = pairs.count();
+        let had = pairs.partners[i].len();
+        pairs.forget(i as u32);
+        assert_eq!(pairs.count(), before - had);
+        assert!(
+            pairs
+                .sorted()
+                .iter()
+                .all(|&(a, b)| a as usize != i && b as usize != i)
+        );
+    }
+}
