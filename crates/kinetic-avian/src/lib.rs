@@ -46,10 +46,10 @@ mod view;
 use avian3d::collision::CollisionDiagnostics;
 use avian3d::prelude::*;
 use bevy::ecs::system::{StaticSystemParam, SystemParamItem};
+use bevy::platform::collections::{HashMap, HashSet};
 use bevy::prelude::*;
 use core::marker::PhantomData;
 use kinetic_broad::{BroadPhaseCore, Key, PairEvent};
-use std::collections::{HashMap, HashSet};
 
 pub use kinetic_broad::{BroadPhaseStats, StepStats};
 
@@ -293,7 +293,7 @@ fn collect_pairs<H: CollisionHooks>(
     // the new ones, and those of colliders changed or whose enlarged boxes avian moved. A
     // collider that only jiggles within its enlarged box costs nothing here.
     let mut active = modified;
-    active.extend(world.enlarged_moved());
+    active.extend(world.enlarged_moved(false));
     let check = state.pairs_to_check(&active);
     let added = graph::add_overlapping(
         &check,

@@ -1,7 +1,7 @@
 //! avian's colliders and bodies as the core sees them: entities as [`Key`]s, the ECS queries
 //! as an [`Engine`], and the changes since the last step.
 
-use avian3d::collider_tree::{ColliderTreeProxyKey, ColliderTrees, MovedProxies};
+use avian3d::collider_tree::{ColliderTreeProxyKey, ColliderTreeType, ColliderTrees, MovedProxies};
 use avian3d::collision::collider::EnlargedAabb;
 use avian3d::dynamics::joints::joint_graph::JointGraph;
 use avian3d::prelude::*;
@@ -110,15 +110,19 @@ impl AvianWorld<'_, '_> {
     }
 
     /// The colliders whose enlarged boxes (`EnlargedAabb`) avian moved since the last broad
-    /// phase: avian's own broad phase looks only at these, and a pair of two others keeps
-    /// whether their enlarged boxes overlap.
-    pub(crate) fn enlarged_moved(&self) -> Vec<Key> {
+    /// phase, those of fixed ones (static bodies, or none: moved by the user) for `fixed`:
+    /// avian's own broad phase looks only at these, and a pair of two others keeps whether
+    /// their enlarged boxes overlap.
+    pub(crate) fn enlarged_moved(&self, fixed: bool) -> impl Iterator<Item = Key> + '_ {
         self.moved_proxies
             .proxies()
             .iter()
+            .filter(move |k| {
+                let t = k.tree_type();
+                fixed == (t == ColliderTreeType::Static || t == ColliderTreeType::Standalone)
+            })
             .filter_map(|&k| self.trees.get_proxy(k))
             .map(|p| key(p.collider))
-            .collect()
     }
 
     /// Collider `k`, if it is there and enabled.
@@ -249,17 +253,25 @@ impl Changes<'_, '_> {
     ) -> (Vec<Key>, Vec<Key>, Vec<Key>) {
         let mut modified: Vec<Key> = self.changed.iter().map(key).collect();
         let mut moved = Vec::new();
-        for (e, of) in &self.placed {
-            let k = key(e);
-            let body = of.map(|of| of.body);
-            // A collider held on a moving body: its moves come with the body's.
-            let known = core.on_moving_body(k);
-            if !known && world.is_static_body(body) {
-                modified.push(k);
-            } else if every && body.is_some_and(|b| world.is_sleeping(b)) {
-                // Moved in the last step, then fell asleep (or was put to sleep) before this
-                // call: its box is where the step left it.
-                moved.push(k);
+        // Between reads of every moved body, what avian's own box upkeep saw move: the
+        // fixed colliders the user moved out of their enlarged boxes (one moved within its
+        // box keeps it, as in avian's own broad phase) and the moving ones.
+        if !every {
+            modified.extend(world.enlarged_moved(true));
+            moved.extend(world.enlarged_moved(false));
+        } else {
+            for (e, of) in &self.placed {
+                let k = key(e);
+                let body = of.map(|of| of.body);
+                // A collider held on a moving body: its moves come with the body's.
+                let known = core.on_moving_body(k);
+                if !known && world.is_static_body(body) {
+                    modified.push(k);
+                } else if body.is_some_and(|b| world.is_sleeping(b)) {
+                    // Moved in the last step, then fell asleep (or was put to sleep) before this
+                    // call: its box is where the step left it.
+                    moved.push(k);
+                }
             }
         }
         for colliders in &self.retyped {
@@ -277,8 +289,6 @@ impl Changes<'_, '_> {
                     moved.extend(colliders.iter().map(key));
                 }
             }
-        } else {
-            moved.extend(world.enlarged_moved());
         }
         (modified, removed, moved)
     }
