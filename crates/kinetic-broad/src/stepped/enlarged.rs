@@ -9,7 +9,8 @@
 //! (kept per box) are brought to what it overlaps now, with an add or a delete for each
 //! difference. All the boxes are filed afresh once the loose ones are more than one in
 //! [`LOOSE_SHARE`] (plus [`LOOSE_MIN`]) of those filed, or where a call changes more than
-//! one box in [`MANY_SHARE`]: then the pairs are found afresh from the grid.
+//! one box in [`MANY_SHARE`]: then the pairs are found afresh from the grid and compared
+//! with those held, both sorted, in one pass.
 
 use super::SteppedGrid;
 use crate::aabb::Aabb;
@@ -46,6 +47,7 @@ pub(crate) struct EnlargedPairs {
     found: Vec<u32>,
     near: Vec<u32>,
     all: Vec<(u32, u32)>,
+    old: Vec<(u32, u32)>,
     /// How many times every box was filed afresh.
     pub(crate) filings: u64,
 }
@@ -65,6 +67,7 @@ impl Default for EnlargedPairs {
             found: Vec::new(),
             near: Vec::new(),
             all: Vec::new(),
+            old: Vec::new(),
             filings: 0,
         }
     }
@@ -156,16 +159,11 @@ impl EnlargedPairs {
         }
         let held = self.filed_count + self.loose.len();
         if changed.len() * MANY_SHARE > held || self.loose.len() > self.most_loose() {
-            if changed.len() * MANY_SHARE > held {
-                self.file_all_and_diff(adds, deletes);
-                return;
-            }
-            // Most boxes kept still: the changed ones looked up first, then all filed.
+            // Filing every box finds every pair: those are taken as they are.
+            self.file_all_and_diff(adds, deletes);
+        } else {
             self.look_up(changed, adds, deletes);
-            self.file_all();
-            return;
         }
-        self.look_up(changed, adds, deletes);
     }
 
     /// The most loose boxes before every box is filed afresh.
@@ -275,29 +273,45 @@ impl EnlargedPairs {
         self.grid.pairs(items, &keep, &mut self.all);
     }
 
-    /// Files every box afresh and brings every box's pairs to those found.
+    /// Files every box afresh and brings the pairs to those found: the old and the new,
+    /// both sorted, compared in one pass, and each box's partners listed again.
     fn file_all_and_diff(&mut self, adds: &mut Vec<(u32, u32)>, deletes: &mut Vec<(u32, u32)>) {
         self.file_all();
-        let all = std::mem::take(&mut self.all);
-        // The pairs found, grouped by their lower end (they come sorted).
-        let mut at = 0;
-        let mut near = std::mem::take(&mut self.near);
-        for i in 0..self.boxes.len() as u32 {
-            near.clear();
-            while at < all.len() && all[at].0 == i {
-                near.push(all[at].1);
-                at += 1;
-            }
-            // Of the old pairs, those with a lower end are settled from that end.
-            let mut upper = std::mem::take(&mut self.partners[i as usize]);
-            let lower: Vec<u32> = upper.iter().copied().filter(|&j| j < i).collect();
-            upper.retain(|&j| j > i);
-            self.partners[i as usize] = upper;
-            self.set_partners(i, &near, adds, deletes);
-            self.partners[i as usize].extend_from_slice(&lower);
+        let mut old = std::mem::take(&mut self.old);
+        old.clear();
+        for (a, list) in self.partners.iter_mut().enumerate() {
+            list.sort_unstable();
+            let a = a as u32;
+            old.extend(list.iter().filter(|&&b| a < b).map(|&b| (a, b)));
         }
-        self.near = near;
-        self.all = all;
+        let new = &self.all;
+        let (mut i, mut j) = (0, 0);
+        while i < old.len() || j < new.len() {
+            match (old.get(i), new.get(j)) {
+                (Some(x), Some(y)) if x == y => {
+                    i += 1;
+                    j += 1;
+                }
+                (Some(&x), y) if y.is_none_or(|&y| x < y) => {
+                    deletes.push(x);
+                    i += 1;
+                }
+                (_, Some(&y)) => {
+                    adds.push(y);
+                    j += 1;
+                }
+                _ => break,
+            }
+        }
+        self.old = old;
+        for list in &mut self.partners {
+            list.clear();
+        }
+        for &(a, b) in new {
+            self.partners[a as usize].push(b);
+            self.partners[b as usize].push(a);
+        }
+        self.count = new.len();
     }
 }
 
