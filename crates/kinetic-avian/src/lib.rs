@@ -22,21 +22,28 @@
 //!
 //! ## What it does
 //!
-//! Each collider is a proxy in a kinetic structure: a ball about its body's centre of mass
-//! when the body is dynamic or kinematic (it holds the collider at every orientation, grown
-//! by avian's contact tolerance, the collision margin and a slack), its own box when the body
-//! is static or there is none. Every moving body has a flight plan fitted to avian's
-//! substepped integrator; a body that stays within its slack keeps it, sleeping bodies rest
-//! and cost nothing per step. Once a step, before avian's narrow phase, the structure is
-//! advanced over the coming step through its own events in time order: the pairs whose
-//! proxies can meet within the step are *live*.
+//! Each collider is a proxy of the engine-agnostic core. avian keeps an enlarged box
+//! (`EnlargedAabb`) about every collider and moves it only when the collider's box leaves
+//! it; its narrow phase keeps a pair while the two enlarged boxes overlap. The core reads
+//! those boxes ([`kinetic_broad::Engine::enlarged`]) and steps on them for good: each step
+//! it looks only at the colliders whose enlarged boxes avian moved (avian's
+//! `MovedProxies`), keeps each collider's pairs, and adds or deletes those that changed.
+//! A heap of bodies jostling inside their boxes, or asleep, costs next to nothing, whatever
+//! the pairs it holds. Once a step, before avian's narrow phase, the pairs whose boxes
+//! overlap are *live*.
 //!
-//! avian's narrow phase drops a pair once the two colliders' `EnlargedAabb`s stop
-//! overlapping, so the plugin adds to the [`ContactGraph`](avian3d::prelude::ContactGraph)
-//! every live pair whose enlarged boxes overlap and that the graph does not hold, filtered as
-//! avian's own broad phase filters: collision layers, colliders of one body, static pairs,
-//! joints with collisions disabled, and the `filter_pairs` hook of `H`
-//! ([`CollisionHooks`](avian3d::prelude::CollisionHooks)).
+//! The plugin adds to the [`ContactGraph`](avian3d::prelude::ContactGraph) every live pair
+//! whose enlarged boxes overlap and that the graph does not hold, filtered as avian's own
+//! broad phase filters: collision layers, colliders of one body, static pairs, joints with
+//! collisions disabled, and the `filter_pairs` hook of `H`
+//! ([`CollisionHooks`](avian3d::prelude::CollisionHooks)). The graph then gets the pairs
+//! avian's own broad phase would give it.
+//!
+//! With [`KineticBroadPhasePlugin::with_loose_grid`] the caller picks a kinetic structure
+//! instead: every collider is then a ball about its body's centre of mass (grown by avian's
+//! contact tolerance, the collision margin and a slack) on a flight plan fitted to avian's
+//! substepped integrator, and the structure is advanced over each step through its own
+//! events in time order.
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
@@ -81,9 +88,9 @@ impl KineticBroadPhasePlugin {
 }
 
 impl<H: CollisionHooks> KineticBroadPhasePlugin<H> {
-    /// The same plugin with its proxies in the structure the caller chose, the loose grid
-    /// (`loose`) or the hierarchical grid (by default it is picked from the first colliders'
-    /// sizes).
+    /// The same plugin with its proxies in the kinetic structure the caller chose, the loose
+    /// grid (`loose`) or the hierarchical grid, on flight plans (by default the broad phase
+    /// steps on avian's enlarged boxes).
     pub fn with_loose_grid(mut self, loose: bool) -> Self {
         self.loose_grid = Some(loose);
         self

@@ -21,9 +21,13 @@
 //!   core drops its structure and files every collider's box into a grid built afresh each
 //!   step, handing over the pairs whose boxes meet within it; it goes back to kinetic once
 //!   plans hold again. The choice is made from counts, so a run is the same every time.
+//! - An engine that keeps enlarged boxes of its own ([`Engine::enlarged`]: avian's) is
+//!   stepped for good on them: each call looks only at the boxes the engine moved and keeps
+//!   the pairs of the others, so it costs what changed.
 //!
 //! The source shows the two halves: `kinetic/` holds the core and its kinetic structure's
-//! proxies, plans and pairs; `stepped/` the per-step filing (grid, sort and sweep, fat boxes).
+//! proxies, plans and pairs; `stepped/` the per-step filing (grid, sort and sweep, fat boxes,
+//! resting boxes, the engine's enlarged boxes).
 //! Both use one box type, [`Aabb`].
 //!
 //! An engine calls [`BroadPhaseCore::update`] once at the start of each step (the user's

@@ -74,8 +74,8 @@ impl BroadPhaseCore {
 
 impl BroadPhaseCore {
     /// In a stepped world: the pairs handed over are sorted and distinct, and every two held
-    /// colliders whose boxes now overlap (the engine's boxes, or a fixed collider's own) are
-    /// among them.
+    /// colliders whose boxes now overlap (the engine's enlarged boxes, else its boxes, or a
+    /// fixed collider's own) are among them.
     fn check_stepped(&self, engine: &impl Engine, reported: &[(u32, u32)]) -> Result<(), String> {
         if !reported.windows(2).all(|w| w[0] < w[1]) {
             return Err("the stepped pairs are not sorted and distinct".into());
@@ -88,7 +88,10 @@ impl BroadPhaseCore {
                 let p = p.as_ref()?;
                 let b = match p.hold {
                     Bound::Fixed { min, max } => Aabb::new(min, max),
-                    Bound::Moving { .. } => engine.bounds(p.key)?,
+                    // The engine's enlarged box where it keeps one: the stepped world's own.
+                    Bound::Moving { .. } => {
+                        engine.enlarged(p.key).or_else(|| engine.bounds(p.key))?
+                    }
                 };
                 Some((i as u32, b))
             })
