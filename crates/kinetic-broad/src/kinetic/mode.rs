@@ -39,7 +39,9 @@
 
 use super::{BroadPhaseCore, REGION_MARGIN, REGION_STEPS};
 use crate::Aabb;
-use crate::stepped::{EnlargedPairs, FatPairs, Resting};
+use crate::stepped::{
+    EnlargedPairs, FatPairs, Resting, meet_within_step, sorted_difference, typical_move,
+};
 use crate::{Bound, Engine, Key, PairEvent};
 use kinetic_core::{Real, Vec3};
 use kinetic_flight::LOOSE_TRAVEL;
@@ -68,8 +70,6 @@ const CALM_COUNTS: u32 = 2;
 const MOST_CALM_COUNTS: u32 = 16;
 /// ... this many steps.
 const SHORT_STRETCH: u64 = 120;
-/// The typical move of the boxes is taken from at most this many of them.
-const SAMPLE: usize = 32;
 /// The typical move is taken again on one position update in this many (it changes
 /// little from step to step, and any frame that moves steadily sweeps the boxes right).
 const TYPICAL_EVERY: u64 = 4;
@@ -635,28 +635,15 @@ impl BroadPhaseCore {
     /// Hands the engine the difference between the pairs it has and this call's.
     fn hand_difference(&mut self, st: &mut Stepped, events: &mut Vec<PairEvent>) {
         // The difference, in order: deletes of pairs gone, adds of pairs new.
-        let (old, new) = (&st.reported, &st.found);
-        let (mut i, mut j) = (0, 0);
         let (adds, deletes) = (&mut st.new, &mut st.gone);
         adds.clear();
         deletes.clear();
-        while i < old.len() || j < new.len() {
-            match (old.get(i), new.get(j)) {
-                (Some(a), Some(b)) if a == b => {
-                    i += 1;
-                    j += 1;
-                }
-                (Some(a), b) if b.is_none_or(|b| a < b) => {
-                    deletes.push(*a);
-                    i += 1;
-                }
-                (_, Some(b)) => {
-                    adds.push(*b);
-                    j += 1;
-                }
-                _ => break,
-            }
-        }
+        sorted_difference(
+            &st.reported,
+            &st.found,
+            |p| deletes.push(p),
+            |p| adds.push(p),
+        );
         std::mem::swap(&mut st.reported, &mut st.found);
         for &(a, b) in &st.new {
             self.out_event(a, b, true, events);
@@ -697,61 +684,6 @@ fn anchors(boxes: &[Option<(Aabb, Vec3)>]) -> Real {
         .sum()
 }
 
-/// The median move of the boxes `boxes` over the step, axis by axis, from at most
-/// [`SAMPLE`] of them evenly spaced by index.
-fn typical_move(boxes: &[Option<(Aabb, Vec3)>], sample: &mut Vec<Real>) -> Vec3 {
-    let every = boxes.len().div_ceil(SAMPLE).max(1);
-    let moves = || boxes.iter().step_by(every).flatten().map(|b| b.1);
-    if moves().next().is_none() {
-        return Vec3::ZERO;
-    }
-    let mut axis = |k: usize| {
-        sample.clear();
-        sample.extend(moves().map(|d| d[k]).filter(|x| x.is_finite()));
-        if sample.is_empty() {
-            return 0.0;
-        }
-        let mid = sample.len() / 2;
-        *sample.select_nth_unstable_by(mid, Real::total_cmp).1
-    };
-    Vec3::new(axis(0), axis(1), axis(2))
-}
-
-/// Whether box `a` moving by `da` and box `b` moving by `db`, both at constant speed over the
-/// step, overlap at some moment of it (touching counts; a little more, for the rounding).
-fn meet_within_step(
-    (Aabb { min: alo, max: ahi }, da): (Aabb, Vec3),
-    (Aabb { min: blo, max: bhi }, db): (Aabb, Vec3),
-) -> bool {
-    // Most candidates overlap as the step starts: no allowance needed.
-    if alo.cmple(bhi).all() && blo.cmple(ahi).all() {
-        return true;
-    }
-    let d = da - db;
-    // a.lo + d t <= b.hi and b.lo <= a.hi + d t, on each axis.
-    let tol = 1e-9 * (alo.abs() + ahi.abs() + blo.abs() + bhi.abs() + d.abs());
-    let (upper, lower) = (bhi - alo + tol, blo - ahi - tol);
-    // Overlapping within the allowance as the step starts: no division.
-    if upper.cmpge(Vec3::ZERO).all() && lower.cmple(Vec3::ZERO).all() {
-        return true;
-    }
-    let (mut t0, mut t1): (Real, Real) = (0.0, 1.0);
-    for k in 0..3 {
-        let (upper, lower) = (upper[k], lower[k]);
-        if d[k] == 0.0 {
-            if upper < 0.0 || lower > 0.0 {
-                return false;
-            }
-            continue;
-        }
-        let (x, y) = (upper / d[k], lower / d[k]);
-        let (lo, hi) = if d[k] > 0.0 { (y, x) } else { (x, y) };
-        t0 = t0.max(lo);
-        t1 = t1.min(hi);
-    }
-    t0 <= t1
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -777,34 +709,5 @@ mod tests {
         // twice one.
         let fast = anchors(&[Some((unit(Vec3::ZERO), d * 1e6)); 2]);
         assert!(fast < 2.0 && fast > 1.99, "{fast}");
-    }
-
-    #[test]
-    fn boxes_meet_within_the_step_by_their_motion_relative_to_each_other() {
-        let (a, b) = (unit(Vec3::ZERO), unit(Vec3::new(3.0, 0.0, 0.0)));
-        // Apart and still, or falling side by side: no.
-        assert!(!meet_within_step((a, Vec3::ZERO), (b, Vec3::ZERO)));
-        let fall = Vec3::new(0.0, -5.0, 0.0);
-        assert!(!meet_within_step((a, fall), (b, fall)));
-        // Closing the gap of 2 within the step: yes, whichever moves; half way: no.
-        let right = Vec3::new(2.0, 0.0, 0.0);
-        assert!(meet_within_step((a, right), (b, Vec3::ZERO)));
-        assert!(meet_within_step((a, Vec3::ZERO), (b, -right)));
-        assert!(!meet_within_step((a, right / 2.0), (b, Vec3::ZERO)));
-        // Crossing on x while apart on y the whole step: no; a diagonal that meets: yes.
-        let c = unit(Vec3::new(3.0, 2.0, 0.0));
-        assert!(!meet_within_step(
-            (a, Vec3::new(4.0, 0.0, 0.0)),
-            (c, Vec3::ZERO)
-        ));
-        assert!(meet_within_step(
-            (a, Vec3::new(4.0, 2.0, 0.0)),
-            (c, Vec3::ZERO)
-        ));
-        // Touching counts.
-        assert!(meet_within_step(
-            (a, Vec3::ZERO),
-            (unit(Vec3::X), Vec3::ZERO)
-        ));
     }
 }

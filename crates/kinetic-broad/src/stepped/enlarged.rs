@@ -13,6 +13,7 @@
 //! with those held, both sorted, in one pass.
 
 use super::SteppedGrid;
+use super::sorted::sorted_difference;
 use crate::aabb::Aabb;
 
 /// The boxes are filed afresh once the loose ones are more than one in this many of those
@@ -48,6 +49,8 @@ pub(crate) struct EnlargedPairs {
     near: Vec<u32>,
     all: Vec<(u32, u32)>,
     old: Vec<(u32, u32)>,
+    gone: Vec<u32>,
+    came: Vec<u32>,
     /// How many times every box was filed afresh.
     pub(crate) filings: u64,
 }
@@ -68,6 +71,8 @@ impl Default for EnlargedPairs {
             near: Vec::new(),
             all: Vec::new(),
             old: Vec::new(),
+            gone: Vec::new(),
+            came: Vec::new(),
             filings: 0,
         }
     }
@@ -224,28 +229,24 @@ impl EnlargedPairs {
         let mut old = std::mem::take(&mut self.partners[i as usize]);
         old.sort_unstable();
         let pair = |j: u32| (i.min(j), i.max(j));
-        let (mut a, mut b) = (0, 0);
-        while a < old.len() || b < near.len() {
-            match (old.get(a), near.get(b)) {
-                (Some(x), Some(y)) if x == y => {
-                    a += 1;
-                    b += 1;
-                }
-                (Some(&x), y) if y.is_none_or(|&y| x < y) => {
-                    self.partners[x as usize].retain(|&k| k != i);
-                    self.count -= 1;
-                    deletes.push(pair(x));
-                    a += 1;
-                }
-                (_, Some(&y)) => {
-                    self.partners[y as usize].push(i);
-                    self.count += 1;
-                    adds.push(pair(y));
-                    b += 1;
-                }
-                _ => break,
-            }
+        let (mut gone, mut came) = (
+            std::mem::take(&mut self.gone),
+            std::mem::take(&mut self.came),
+        );
+        gone.clear();
+        came.clear();
+        sorted_difference(&old, near, |x| gone.push(x), |y| came.push(y));
+        for &x in &gone {
+            self.partners[x as usize].retain(|&k| k != i);
+            self.count -= 1;
+            deletes.push(pair(x));
         }
+        for &y in &came {
+            self.partners[y as usize].push(i);
+            self.count += 1;
+            adds.push(pair(y));
+        }
+        (self.gone, self.came) = (gone, came);
         old.clear();
         old.extend_from_slice(near);
         self.partners[i as usize] = old;
@@ -285,24 +286,7 @@ impl EnlargedPairs {
             old.extend(list.iter().filter(|&&b| a < b).map(|&b| (a, b)));
         }
         let new = &self.all;
-        let (mut i, mut j) = (0, 0);
-        while i < old.len() || j < new.len() {
-            match (old.get(i), new.get(j)) {
-                (Some(x), Some(y)) if x == y => {
-                    i += 1;
-                    j += 1;
-                }
-                (Some(&x), y) if y.is_none_or(|&y| x < y) => {
-                    deletes.push(x);
-                    i += 1;
-                }
-                (_, Some(&y)) => {
-                    adds.push(y);
-                    j += 1;
-                }
-                _ => break,
-            }
-        }
+        sorted_difference(&old, new, |x| deletes.push(x), |y| adds.push(y));
         self.old = old;
         for list in &mut self.partners {
             list.clear();

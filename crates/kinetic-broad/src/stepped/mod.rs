@@ -9,6 +9,8 @@
 //!   the boxes that moved are filed each step.
 //! - `enlarged.rs`: the pairs of an engine's enlarged boxes (avian's), kept per box and
 //!   looked at only for the boxes the engine moved.
+//! - `moves.rs`: whether two moving boxes meet within a step, the boxes' typical move.
+//! - `sorted.rs`: sorted sets' merge and difference.
 //!
 //! The kinetic half ([`crate::kinetic`]) decides when to step and hands the pairs found here
 //! to the engine.
@@ -16,10 +18,14 @@
 mod enlarged;
 mod fat_pairs;
 mod grid;
+mod moves;
 mod resting;
+mod sorted;
 mod sweep;
 
 pub(crate) use enlarged::EnlargedPairs;
 pub(crate) use fat_pairs::FatPairs;
 pub(crate) use grid::SteppedGrid;
+pub(crate) use moves::{meet_within_step, typical_move};
 pub(crate) use resting::Resting;
+pub(crate) use sorted::sorted_difference;

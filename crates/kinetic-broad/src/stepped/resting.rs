@@ -15,6 +15,7 @@
 //! otherwise.
 
 use super::SteppedGrid;
+use super::sorted::merge;
 use crate::aabb::Aabb;
 use kinetic_core::Vec3;
 
@@ -192,23 +193,6 @@ impl Resting {
         self.grid.remeasure();
         self.grid.pairs(items, keep, &mut self.pairs);
     }
-}
-
-/// `a` and `b`, sorted and disjoint, merged into `out`, sorted.
-fn merge(a: &[(u32, u32)], b: &[(u32, u32)], out: &mut Vec<(u32, u32)>) {
-    out.clear();
-    let (mut i, mut j) = (0, 0);
-    while i < a.len() && j < b.len() {
-        if a[i] <= b[j] {
-            out.push(a[i]);
-            i += 1;
-        } else {
-            out.push(b[j]);
-            j += 1;
-        }
-    }
-    out.extend_from_slice(&a[i..]);
-    out.extend_from_slice(&b[j..]);
 }
 
 #[cfg(test)]
