@@ -146,6 +146,36 @@ fn a_rain_onto_the_ground_misses_no_pair_within_reach() {
 }
 
 #[test]
+fn bodies_added_after_the_ground_has_stepped_alone_miss_no_pair() {
+    // The broad phase's first colliders are the ground's: it still steps on avian's
+    // enlarged boxes once the bodies come.
+    let mut ours = app(Broad::Kinetic);
+    ground(&mut ours);
+    for _ in 0..3 {
+        step(&mut ours);
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    for k in 0..80 {
+        let at = Vec3::new(
+            rng.random_range(-3.0..3.0),
+            1.0 + k as f32 * 0.2,
+            rng.random_range(-3.0..3.0),
+        );
+        spawn(&mut ours, ball(at, rng.random_range(0.2..0.4)));
+    }
+    let mut touching_seen = 0;
+    for k in 0..150 {
+        let missing = step_missing(&mut ours, 0.01);
+        assert!(missing.is_empty(), "step {k}: {missing:?}");
+        touching_seen += touching(&ours).len();
+    }
+    assert!(touching_seen > 500, "{touching_seen}");
+    let (name, stats) = (kinetic(&ours).structure_name(), kinetic(&ours).stats());
+    assert_eq!((name, stats.switches), ("stepped", 0), "{stats:?}");
+    assert_eq!(audit(&ours), None);
+}
+
+#[test]
 fn a_fast_ball_does_not_skip_a_thin_walls_pair() {
     for ccd in [false, true] {
         let mut ours = app(Broad::Kinetic);

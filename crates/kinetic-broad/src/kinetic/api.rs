@@ -137,12 +137,11 @@ impl BroadPhaseCore {
         }
     }
 
-    /// Whether the next position update reads every moved body: always in a kinetic world
-    /// (its plans), and on the stepped updates that price a kinetic step or switch. On the
-    /// others, an engine that gives enlarged boxes ([`crate::Engine::enlarged`]) need list
-    /// only the colliders whose enlarged boxes it moved.
+    /// Whether the next position update needs every moved collider listed: always, except in
+    /// a world stepped on the engine's enlarged boxes ([`crate::Engine::enlarged`]), where
+    /// the engine need list only the colliders whose enlarged boxes it moved.
     pub fn reads_every_move(&self) -> bool {
-        self.meter_switching() || self.stepped.as_ref().is_none_or(|st| st.full())
+        self.stepped.as_ref().is_none_or(|st| !st.on_engine_boxes())
     }
 
     /// Whether collider `c` is held on a moving body (its moves come with its body's).

@@ -159,6 +159,11 @@ impl Stepped {
         self.enlarged.is_none() && self.updates % self.price_every() < 3
     }
 
+    /// Whether it steps on the engine's enlarged boxes.
+    pub(super) fn on_engine_boxes(&self) -> bool {
+        self.enlarged.is_some()
+    }
+
     /// The pairs the engine has, sorted.
     pub(super) fn pairs(&self) -> std::borrow::Cow<'_, [(u32, u32)]> {
         match &self.enlarged {
@@ -412,11 +417,6 @@ impl BroadPhaseCore {
             m.switched = steps;
             m.switch = true;
         }
-    }
-
-    /// Whether the next position update switches.
-    pub(super) fn meter_switching(&self) -> bool {
-        self.meter.switch
     }
 
     /// At the start of a position update: makes the switch the last step's costs called for.

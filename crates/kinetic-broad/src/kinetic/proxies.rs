@@ -171,9 +171,7 @@ impl BroadPhaseCore {
             .collect();
         if self.loose_grid.is_none() {
             self.loose_grid = Some(loose_grid_fits(&holds));
-            self.engine_boxes = holds.iter().any(|&(h, hold, _)| {
-                matches!(hold, Bound::Moving { .. }) && engine.enlarged(h).is_some()
-            });
+            self.engine_boxes = holds.iter().any(|&(h, ..)| engine.enlarged(h).is_some());
         }
         if self.structure.is_none() && !self.is_stepped() {
             // A world starts stepped, its first steps showing whether plans hold, unless most

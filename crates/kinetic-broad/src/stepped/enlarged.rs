@@ -302,7 +302,7 @@ impl EnlargedPairs {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::aabb::{next, next_vec, overlapping};
+    use crate::aabb::{next, next_vec};
     use kinetic_core::Vec3;
     use std::collections::BTreeSet;
 
@@ -354,7 +354,7 @@ mod tests {
             for a in 0..n {
                 for b in a + 1..n {
                     if let (Some(x), Some(y)) = (boxes[a], boxes[b])
-                        && overlapping(&x, &y)
+                        && x.overlaps(&y)
                     {
                         want.insert((a as u32, b as u32));
                     }
