@@ -17,14 +17,16 @@ use super::sorted::sorted_difference;
 use crate::aabb::Aabb;
 
 /// The boxes are filed afresh once the loose ones are more than one in this many of those
-/// filed...
+/// filed (the resting split's share, `resting.rs`; not fitted here)...
 const LOOSE_SHARE: usize = 8;
 /// ... plus this many.
 const LOOSE_MIN: usize = 16;
-/// A call that changes more than one box in this many finds every pair afresh.
+/// A call that changes more than one box in this many finds every pair afresh (the share
+/// below which the resting split stops paying, `resting.rs`; not fitted here).
 const MANY_SHARE: usize = 3;
 /// The loose boxes are filed in a grid of their own for a call's look-ups once the tests a
-/// scan would make are more than this many per box filed and looked up.
+/// scan would make are more than this many per box filed and looked up (chosen, not
+/// fitted: a box test costs a few nanoseconds, a filing and a look-up some hundreds).
 const SCAN_MOST: usize = 32;
 
 /// The boxes, their pairs, and the grid they are filed in.
