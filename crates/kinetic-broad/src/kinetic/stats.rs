@@ -35,7 +35,8 @@ pub struct BroadPhaseStats {
     /// Stepped: colliders that left their fat boxes and were given new ones on their own.
     pub refattened: u64,
     /// Stepped: times the resting colliders (sleeping, fixed) were filed afresh, where most
-    /// rest and only the moving ones are filed each step.
+    /// rest and only the moving ones are filed each step; on an engine's enlarged boxes, times
+    /// all its boxes were.
     pub rest_filings: u64,
 }
 
