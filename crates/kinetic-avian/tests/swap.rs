@@ -94,6 +94,18 @@ fn a_mostly_sleeping_stack_files_only_its_moving_boxes_and_misses_no_pair() {
     assert_eq!(kinetic(&ours).structure_name(), "stepped");
 }
 
+/// Runs `steps` steps, asserting after each that no pair within 0.01 is missing from the
+/// contact graph (`what` names the run); returns the touching pairs seen, summed over steps.
+fn steps_missing_none(app: &mut App, steps: usize, what: &str) -> usize {
+    let mut touching_seen = 0;
+    for k in 0..steps {
+        let missing = step_missing(app, 0.01);
+        assert!(missing.is_empty(), "{what}, step {k}: {missing:?}");
+        touching_seen += touching(app).len();
+    }
+    touching_seen
+}
+
 /// Balls and boxes dropped in layers onto a ground.
 fn rain(app: &mut App, seed: u64, n: usize) {
     ground(app);
@@ -119,12 +131,7 @@ fn a_rain_onto_the_ground_misses_no_pair_within_reach() {
     for broad in [Broad::Kinetic, Broad::LooseGrid(false)] {
         let mut ours = app(broad);
         rain(&mut ours, 7, 150);
-        let mut touching_seen = 0;
-        for k in 0..240 {
-            let missing = step_missing(&mut ours, 0.01);
-            assert!(missing.is_empty(), "{broad:?}, step {k}: {missing:?}");
-            touching_seen += touching(&ours).len();
-        }
+        let touching_seen = steps_missing_none(&mut ours, 240, &format!("{broad:?}"));
         assert!(touching_seen > 1000, "{touching_seen}");
         // The pile came to rest on the ground: nothing fell through.
         let mut q = ours.world_mut().query::<(&Position, &RigidBody)>();
@@ -163,12 +170,7 @@ fn bodies_added_after_the_ground_has_stepped_alone_miss_no_pair() {
         );
         spawn(&mut ours, ball(at, rng.random_range(0.2..0.4)));
     }
-    let mut touching_seen = 0;
-    for k in 0..150 {
-        let missing = step_missing(&mut ours, 0.01);
-        assert!(missing.is_empty(), "step {k}: {missing:?}");
-        touching_seen += touching(&ours).len();
-    }
+    let touching_seen = steps_missing_none(&mut ours, 150, "kinetic");
     assert!(touching_seen > 500, "{touching_seen}");
     let (name, stats) = (kinetic(&ours).structure_name(), kinetic(&ours).stats());
     assert_eq!((name, stats.switches), ("stepped", 0), "{stats:?}");

@@ -87,7 +87,7 @@ pub(super) struct Stepped {
     reported: Vec<(u32, u32)>,
     /// On the engine's enlarged boxes ([`Engine::enlarged`]): their pairs, kept per box.
     enlarged: Option<Box<EnlargedPairs>>,
-    /// The colliders whose boxes changed in this call.
+    /// On the engine's enlarged boxes: the colliders whose boxes changed in this call.
     touched: Vec<u32>,
     /// This call's pairs.
     found: Vec<(u32, u32)>,
@@ -311,7 +311,9 @@ impl Stepped {
         }
         if self.changed[i] != self.calls + 1 {
             self.changed[i] = self.calls + 1;
-            self.touched.push(i as u32);
+            if self.enlarged.is_some() {
+                self.touched.push(i as u32);
+            }
         }
     }
 
@@ -579,7 +581,6 @@ impl BroadPhaseCore {
             }
             return;
         }
-        st.touched.clear();
         // Where many boxes rest, only those that moved are filed: a resting box moves
         // nothing over the step.
         let (boxes, changed, call) = (&st.boxes, &st.changed, st.calls);
