@@ -235,7 +235,7 @@ fn run_chooses_cells_for_hard_spheres_and_logs_what_the_grid_logs() {
 }
 
 #[test]
-fn run_chooses_lists_for_spheres_of_one_size_and_logs_what_the_grid_logs() {
+fn run_measures_lists_and_cells_for_spheres_of_one_size_and_logs_what_the_grid_logs() {
     for (n, packing) in [(500, 0.1), (864, 0.4)] {
         let scene = HardSpheres {
             collisions: 4000.0,
@@ -244,14 +244,33 @@ fn run_chooses_lists_for_spheres_of_one_size_and_logs_what_the_grid_logs() {
         }
         .build()
         .unwrap();
-        let lists = run_scene(&scene, None).unwrap();
-        assert_eq!(lists.structure, Structure::Lists);
+        // The default measures the lists and the cell grid from the start, then runs the
+        // faster: both log alike, and both give the bulk figures.
+        let default = run_scene(&scene, None).unwrap();
+        let legs: Vec<_> = default.race.iter().map(|l| (l.structure, l.from)).collect();
+        assert_eq!(
+            legs,
+            [
+                (Structure::Lists, 0.0),
+                (Structure::Cells, 0.0),
+                (default.structure, 0.0)
+            ]
+        );
+        assert_eq!(default.race[2].to, scene.horizon);
+        let lists = run_scene(&scene, Some(Structure::Lists)).unwrap();
+        assert_eq!(default.event_log(), lists.event_log());
         let grid = run_scene(&scene, Some(Structure::Grid)).unwrap();
         assert_eq!(lists.event_log(), grid.event_log(), "packing {packing}");
         assert_eq!(lists.stats.bounces, grid.stats.bounces);
         assert!(lists.stats.bounces > 50, "{} bounces", lists.stats.bounces);
         let cells = run_scene(&scene, Some(Structure::Cells)).unwrap();
         assert_eq!(lists.event_log(), cells.event_log(), "packing {packing}");
+        // The same collisions and bounces: the same figures, but for the order of the sums.
+        let (a, b) = (lists.bulk.unwrap().bulk, cells.bulk.unwrap().bulk);
+        assert_eq!(a.collision_rate, b.collision_rate);
+        assert!((a.temperature / b.temperature - 1.0).abs() < 1e-12);
+        assert!((a.pressure / b.pressure - 1.0).abs() < 1e-9, "{a:?} {b:?}");
+        assert!(default.bulk.is_some());
         // The pressure on the walls is the fluid's, about Carnahan-Starling's (a small
         // system, its start included: within a fifth).
         let bulk = lists.bulk.expect("bulk figures");

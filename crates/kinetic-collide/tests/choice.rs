@@ -42,3 +42,23 @@ fn the_default_applies_takes_every_branch_and_matches_the_brute_force() {
         ]
     );
 }
+
+/// Where the model picks the brute force for more than 64 objects, a run measures it as it
+/// builds it, in batches, and may leave it for a box structure after the second: either way
+/// the log is the brute force's own, bit for bit.
+#[test]
+fn a_brute_force_measured_as_it_is_built_gives_its_own_log() {
+    let mut measured = Vec::new();
+    for case in choice_family(&[100, 250], 3) {
+        let scene = &case.scene;
+        if Structure::for_scene(scene) != Structure::BruteForce || scene.objects.len() <= 64 {
+            continue;
+        }
+        measured.push(case.kind);
+        let reference = run_scene(scene, Some(Structure::BruteForce)).unwrap();
+        let got = run_scene(scene, None).unwrap();
+        assert!(!reference.events.is_empty(), "{}: no contacts", case.kind);
+        assert_eq!(got.events, reference.events, "{}", case.kind);
+    }
+    assert!(measured.len() >= 2, "{measured:?}");
+}

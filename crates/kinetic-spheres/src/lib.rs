@@ -33,8 +33,10 @@
 #![warn(missing_docs)]
 #![deny(unsafe_code)]
 
+mod bulk;
 mod cells;
 mod listed;
 
+pub use bulk::Bulk;
 pub use cells::ElasticCells;
-pub use listed::{Bulk, ListedSpheres, PeriodicBox};
+pub use listed::{ListedSpheres, PeriodicBox};

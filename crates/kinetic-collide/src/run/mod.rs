@@ -6,13 +6,13 @@ use crate::scene::{Scene, ShapeSpec};
 mod spheres;
 
 pub use crate::structures::Slice;
-use crate::structures::{BRUTE_FORCE_START_MAX, FLIGHT_PARTS, PROBE_OBJECTS, Race, pair_cost};
+use crate::structures::{BRUTE_FORCE_START_MAX, FLIGHT_PARTS, PROBE_OBJECTS, Race, build_cost};
 use crate::{Structure, World};
 use kinetic_core::{ContactEvent, ContactKind, Shape, Stats, WorldError};
 use kinetic_flight::ConvexShape;
 use kinetic_spheres::{ElasticCells, ListedSpheres};
 pub use spheres::{BLOCKS, MeasuredBulk};
-use spheres::{run_cells, run_listed, run_periodic};
+use spheres::{faster_in_walls, run_cells, run_listed, run_periodic};
 use std::cell::RefCell;
 use std::fmt::Write as _;
 use std::ops::ControlFlow;
@@ -63,7 +63,9 @@ pub struct RunOutput {
     pub structure: Structure,
     /// A run without a named structure: which structure ran each slice of it and what each
     /// slice cost, in order (the structures tried, their cost, and when the run switched).
-    /// Empty when the structure was named or the scene has one structure only.
+    /// Elastic balls in walls that two structures hold list the two trials, each from the
+    /// start without a log, then the whole run on the faster. Empty when the structure was
+    /// named or the scene has one structure only.
     pub race: Vec<Slice>,
     /// Number of objects.
     pub objects: usize,
@@ -220,27 +222,57 @@ fn drive(
 }
 
 /// The world a raced run starts on, its structure and its build's wall seconds: the model's
-/// pick, unless that is the brute force and its build would cost more than twice the box
-/// structure's (measured: the box structure built, and the brute force's build estimated
-/// from a probe, [`pair_cost`]), or it has more than [`BRUTE_FORCE_START_MAX`] objects; then
-/// the model's box structure, and the race weighs the brute force later.
+/// pick, unless that is the brute force and its build proves dearer than the box structure
+/// the model would pick ([`Structure::boxes_for`]), or it has more than
+/// [`BRUTE_FORCE_START_MAX`] objects; then that box structure, and the race weighs the brute
+/// force later.
+///
+/// The brute force is built in three batches, so that what it costs is measured as it is
+/// paid: a quarter of [`PROBE_OBJECTS`] objects (which also pays the world's first
+/// allocations), as many again, and the rest. After the second the rest of its build is
+/// projected at that batch's cost per pair, and where that passes the model's cost of the box
+/// structure, build and run ([`Structure::boxes_cost_seconds`]), the box structure is built
+/// instead. A brute force that pays is thus built at no extra cost, and one that does not
+/// costs the pairs of half of [`PROBE_OBJECTS`] objects. The decision is taken once: a
+/// projection that shrinks as the build goes on would otherwise be followed until it is
+/// dearest to leave.
 fn raced_start(scene: &Scene, chosen: Structure) -> Result<(World, Structure, f64), RunError> {
     let n = scene.objects.len();
     let built = Instant::now();
-    if chosen != Structure::BruteForce || n <= PROBE_OBJECTS {
-        let (world, name) = build_world(scene, Some(chosen))?;
+    let brute = chosen == Structure::BruteForce;
+    if !brute || n <= PROBE_OBJECTS || n > BRUTE_FORCE_START_MAX {
+        let name = if brute && n > BRUTE_FORCE_START_MAX {
+            Structure::boxes_for(scene)
+        } else {
+            chosen
+        };
+        let (world, name) = build_world(scene, Some(name))?;
         return Ok((world, name, built.elapsed().as_secs_f64()));
     }
-    let (world, name) = build_world(scene, Some(Structure::boxes_for(scene)))?;
-    let boxes = built.elapsed().as_secs_f64();
-    let pairs = (n * (n - 1) / 2) as f64;
-    if n > BRUTE_FORCE_START_MAX || pair_cost(&world) * pairs > 2.0 * boxes {
-        return Ok((world, name, boxes));
+    let shapes = shapes_of(scene)?;
+    let boxes_cost = Structure::boxes_cost_seconds(scene);
+    let mut world = empty_world(scene, chosen, &shapes)?;
+    let pairs = |k: usize| (k * k.saturating_sub(1) / 2) as f64;
+    let mut added = 0;
+    for to in [PROBE_OBJECTS / 4, PROBE_OBJECTS / 2, n] {
+        let plans = scene.objects[added..to].iter().map(|o| o.plan());
+        let batch = Instant::now();
+        world
+            .add_objects(shapes[added..to].iter().cloned().zip(plans))
+            .map_err(|e| RunError::Input(format!("objects: {e}")))?;
+        // The second batch decides, at its cost per pair (the first also pays the world's
+        // first allocations).
+        let per_pair = batch.elapsed().as_secs_f64() / (pairs(to) - pairs(added));
+        let decides = added > 0 && to < n;
+        added = to;
+        if decides && per_pair * (pairs(n) - pairs(added)) > boxes_cost {
+            drop(world);
+            let start = Instant::now();
+            let (world, name) = build_world(scene, Some(Structure::boxes_for(scene)))?;
+            return Ok((world, name, start.elapsed().as_secs_f64()));
+        }
     }
-    drop(world);
-    let built = Instant::now();
-    let (world, name) = build_world(scene, Some(chosen))?;
-    Ok((world, name, built.elapsed().as_secs_f64()))
+    Ok((world, chosen, built.elapsed().as_secs_f64()))
 }
 
 /// [`drive`] in the race's slices: each slice timed, and the world handed to the structure
@@ -261,7 +293,8 @@ fn drive_racing(
         let stats = world.stats();
         let pairs = stats.events_by_kind.get("collision").copied().unwrap_or(0);
         race.contact_share(pairs as f64 / stats.events_total().max(1) as f64);
-        let next = race.slice_done(from, to, wall, &mut || pair_cost(world));
+        let least_flight = horizon / FLIGHT_PARTS;
+        let next = race.slice_done(from, to, wall, &mut |s| build_cost(world, s, least_flight));
         if let Some(next) = next {
             let build = Instant::now();
             world.switch_structure(next, horizon / FLIGHT_PARTS)?;
@@ -372,11 +405,32 @@ pub fn run_scene_streamed(
     }
     if matches!(chosen, Structure::Cells | Structure::Lists) {
         if times.is_empty() {
-            return if chosen == Structure::Cells {
+            // Without a name, the two that hold balls in walls are measured.
+            let (chosen, trials) = match structure {
+                None if chosen == Structure::Lists => faster_in_walls(scene, stream.stop),
+                _ => (chosen, Vec::new()),
+            };
+            let mut output = if chosen == Structure::Cells {
                 run_cells(scene, start, stream)
             } else {
                 run_listed(scene, start, stream)
-            };
+            }?;
+            if !trials.is_empty() {
+                let tried: f64 = trials.iter().map(|t| t.wall_seconds).sum();
+                let to = output
+                    .interrupted
+                    .as_ref()
+                    .map_or(scene.horizon, |i| i.time);
+                output.race = trials;
+                output.race.push(Slice {
+                    structure: chosen,
+                    from: 0.0,
+                    to,
+                    wall_seconds: output.wall_seconds - tried,
+                    build_seconds: 0.0,
+                });
+            }
+            return Ok(output);
         }
         if structure.is_none() {
             // Frames are drawn from a world: the grid gives the same events.
@@ -496,12 +550,7 @@ pub fn build_world(
                 .to_string(),
         ));
     }
-    let least_flight = scene.horizon / FLIGHT_PARTS;
-    let candidates = name
-        .build(scene.world, &shapes, least_flight)
-        .map_err(|why| RunError::Input(format!("--structure {name}: {why}")))?;
-    let mut world = World::with_candidates(scene.world, scene.response, scene.walls, candidates)
-        .map_err(|e| RunError::Input(format!("walls: {e}")))?;
+    let mut world = empty_world(scene, name, &shapes)?;
     world
         .add_objects(
             shapes
@@ -510,6 +559,17 @@ pub fn build_world(
         )
         .map_err(|e| RunError::Input(format!("objects: {e}")))?;
     Ok((world, name))
+}
+
+/// A world of `scene`'s kind, response and walls on an empty structure `name` sized for
+/// `shapes` (the scene's objects).
+fn empty_world(scene: &Scene, name: Structure, shapes: &[Shape]) -> Result<World, RunError> {
+    let least_flight = scene.horizon / FLIGHT_PARTS;
+    let candidates = name
+        .build(scene.world, shapes, least_flight)
+        .map_err(|why| RunError::Input(format!("--structure {name}: {why}")))?;
+    World::with_candidates(scene.world, scene.response, scene.walls, candidates)
+        .map_err(|e| RunError::Input(format!("walls: {e}")))
 }
 
 /// Appends `e` to `out` as one line of the event log, exactly as the scene format shows it.
@@ -607,7 +667,13 @@ impl RunOutput {
         let mut legs: Vec<Slice> = Vec::new();
         for s in &self.race {
             match legs.last_mut() {
-                Some(last) if last.structure == s.structure && s.build_seconds == 0.0 => {
+                // A leg that starts where the last ended, on the same structure and without
+                // a build, continues it (a trial in walls starts afresh, from the start).
+                Some(last)
+                    if last.structure == s.structure
+                        && s.build_seconds == 0.0
+                        && s.from == last.to =>
+                {
                     last.to = s.to;
                     last.wall_seconds += s.wall_seconds;
                 }

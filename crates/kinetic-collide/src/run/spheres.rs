@@ -2,12 +2,13 @@
 //! or in neighbour lists, and a periodic box, whose bulk figures are measured over a window of the run that leaves
 //! out its start (melting from a lattice, say), in blocks that give their uncertainty.
 
-use super::{Reached, RunError, RunOutput, Stream, drive};
+use super::{Reached, RunError, RunOutput, Simulation, Slice, Stream, drive};
 use crate::Structure;
 use crate::scene::Scene;
 use crate::structures::{cell_balls, listed_balls, periodic_balls};
 use kinetic_core::WorldError;
 use kinetic_spheres::{Bulk, ElasticCells, ListedSpheres};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 /// The bulk figures' blocks: the window is cut into this many of equal length, and the
@@ -50,7 +51,111 @@ fn whole_run(
     }
 }
 
-/// Runs a scene on the cell grid.
+/// The most of the horizon a trial in walls runs ([`faster_in_walls`]): each of the two
+/// trials costs at most this share of its own run, as projected.
+const WALLS_TRIAL_SHARE: f64 = 1.0 / 64.0;
+
+/// The wall seconds a trial in walls runs, where its share of the horizon allows: shorter
+/// measurements are mostly this machine's noise.
+const WALLS_TRIAL_WALL: f64 = 0.002;
+
+/// Elastic balls in walls that the neighbour lists and the cell grid both hold (sizes within a
+/// factor of two): which of the two runs `scene` faster, measured, and the two trials as
+/// slices. The lists spend the least per collision where the spheres crowd; where they are
+/// sparse, a sphere's shell holds few neighbours and it crosses it often, and the cell grid
+/// can be twice as fast (measured: 125 and 251 spheres at packings 0.024 and 0.010).
+///
+/// Each trial runs from the start of the run without a log: the lists for
+/// [`WALLS_TRIAL_WALL`] seconds or [`WALLS_TRIAL_SHARE`] of the horizon, whichever comes
+/// first, the cell grid to the same time, stopped once it has taken twice as long. Each
+/// projects its whole run, its build and its pace over the horizon, and the run then starts
+/// afresh on the faster (every structure gives the same log). A trial that fails, or a `stop`
+/// set meanwhile, leaves the lists.
+pub(super) fn faster_in_walls(scene: &Scene, stop: Option<&AtomicBool>) -> (Structure, Vec<Slice>) {
+    let (Some((walls, balls)), Some(_)) = (listed_balls(scene), cell_balls(scene)) else {
+        return (Structure::Lists, Vec::new());
+    };
+    let horizon = scene.horizon;
+    let slice = |structure, to: f64, wall: f64, build: f64| Slice {
+        structure,
+        from: 0.0,
+        to,
+        wall_seconds: wall + build,
+        build_seconds: build,
+    };
+    let built = Instant::now();
+    let Ok(mut gas) = ListedSpheres::in_walls(walls, &balls) else {
+        return (Structure::Lists, Vec::new());
+    };
+    let lists_build = built.elapsed().as_secs_f64();
+    let run = Instant::now();
+    let Some(to) = trial(
+        &mut gas,
+        horizon * WALLS_TRIAL_SHARE,
+        WALLS_TRIAL_WALL,
+        stop,
+    ) else {
+        return (Structure::Lists, Vec::new());
+    };
+    let lists_wall = run.elapsed().as_secs_f64();
+    drop(gas);
+    let mut trials = vec![slice(Structure::Lists, to, lists_wall, lists_build)];
+    let built = Instant::now();
+    let Ok(mut cells) = ElasticCells::new(walls, &balls) else {
+        return (Structure::Lists, trials);
+    };
+    let cells_build = built.elapsed().as_secs_f64();
+    let run = Instant::now();
+    let lost = 2.0 * (lists_wall + lists_build) - cells_build;
+    let Some(reached) = trial(&mut cells, to, lost.max(0.0), stop) else {
+        return (Structure::Lists, trials);
+    };
+    trials.push(slice(
+        Structure::Cells,
+        reached,
+        run.elapsed().as_secs_f64(),
+        cells_build,
+    ));
+    let projected = |t: &Slice| {
+        let pace = (t.wall_seconds - t.build_seconds) / t.to.max(f64::MIN_POSITIVE);
+        t.build_seconds + pace * horizon
+    };
+    let pick = if projected(&trials[1]) < projected(&trials[0]) {
+        Structure::Cells
+    } else {
+        Structure::Lists
+    };
+    (pick, trials)
+}
+
+/// Runs `sim` without a log until `until` or for `wall` seconds (checked every 64 events),
+/// whichever comes first; the time it reached, or `None` when it failed or `stop` was set.
+fn trial(
+    sim: &mut impl Simulation,
+    until: f64,
+    wall: f64,
+    stop: Option<&AtomicBool>,
+) -> Option<f64> {
+    let start = Instant::now();
+    loop {
+        for _ in 0..64 {
+            if !sim.step_to(until).ok()? {
+                sim.take_events();
+                return Some(until);
+            }
+        }
+        sim.take_events();
+        if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
+            return None;
+        }
+        if start.elapsed().as_secs_f64() >= wall {
+            return Some(sim.clock());
+        }
+    }
+}
+
+/// Runs a scene on the cell grid, with the bulk figures of the whole run (the pressure is
+/// that on the walls).
 pub(super) fn run_cells(
     scene: &Scene,
     start: Instant,
@@ -65,12 +170,12 @@ pub(super) fn run_cells(
     })?;
     let mut cells =
         ElasticCells::new(walls, &balls).map_err(|e| RunError::Input(format!("objects: {e}")))?;
-    let result = drive(&mut cells, scene.horizon, stream);
+    let (result, measured) = measure(&mut cells, scene.horizon, 0.0, stream);
     let output = whole_run(
         scene,
         Structure::Cells,
         (cells.stats().clone(), cells.counters()),
-        None,
+        measured,
         start,
     );
     output.finish(result, cells.now())
@@ -136,10 +241,34 @@ pub(super) fn run_periodic(
     output.finish(result, gas.now())
 }
 
+/// A hard-sphere simulator that sums bulk figures as it runs.
+trait Measured: Simulation {
+    fn reset_bulk(&mut self);
+    fn bulk(&self) -> Bulk;
+}
+
+impl Measured for ListedSpheres {
+    fn reset_bulk(&mut self) {
+        ListedSpheres::reset_bulk(self)
+    }
+    fn bulk(&self) -> Bulk {
+        ListedSpheres::bulk(self)
+    }
+}
+
+impl Measured for ElasticCells {
+    fn reset_bulk(&mut self) {
+        ElasticCells::reset_bulk(self)
+    }
+    fn bulk(&self) -> Bulk {
+        ElasticCells::bulk(self)
+    }
+}
+
 /// Drives `gas` to `horizon`, its bulk figures taken afresh at `from` and over each of
 /// [`BLOCKS`] equal blocks from there; `None` for the figures when the run stopped first.
 fn measure(
-    gas: &mut ListedSpheres,
+    gas: &mut impl Measured,
     horizon: f64,
     from: f64,
     stream: &mut Stream<'_>,

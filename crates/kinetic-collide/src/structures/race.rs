@@ -46,18 +46,20 @@ pub(crate) const BRUTE_FORCE_START_MAX: usize = 1500;
 /// would take gigabytes before any measurement could stop them.
 const BRUTE_FORCE_TRIAL_MAX: usize = 3000;
 
-/// Objects in the sample [`pair_cost`] times.
+/// The most objects in the sample [`pair_cost`] times.
 pub(crate) const PROBE_OBJECTS: usize = 64;
 
 /// The wall seconds one pair certificate of this world costs to make: the brute force's build
-/// timed on a sample of up to [`PROBE_OBJECTS`] of its objects, spread over the ids (so over
+/// timed on a sample of a quarter of its objects (at least 16, at most [`PROBE_OBJECTS`], so
+/// that the probe costs at most a sixteenth of the whole build), spread over the ids (so over
 /// its sizes and shapes), with their plans at the world's time.
 pub(crate) fn pair_cost(world: &World) -> f64 {
     let bodies: Vec<&kinetic_core::Body> = world.bodies().iter().flatten().collect();
     if bodies.len() < 2 {
         return 0.0;
     }
-    let step = bodies.len().div_ceil(PROBE_OBJECTS).max(1);
+    let size = (bodies.len() / 4).clamp(16, PROBE_OBJECTS);
+    let step = bodies.len().div_ceil(size).max(1);
     let sample: Vec<(Shape, FlightPlan)> = bodies
         .iter()
         .step_by(step)
@@ -71,6 +73,48 @@ pub(crate) fn pair_cost(world: &World) -> f64 {
         return 0.0;
     }
     start.elapsed().as_secs_f64() / (k * (k - 1.0) / 2.0)
+}
+
+/// The most objects in the sample [`build_cost`] builds.
+const BUILD_SAMPLE: usize = 256;
+
+/// The wall seconds a whole build of `structure` would cost in this world: for the brute
+/// force its pairs at [`pair_cost`]; for a box structure its build timed on a sample of a
+/// quarter of the objects (at least 16, at most [`BUILD_SAMPLE`]), spread over the ids, and
+/// scaled to all of them (a box structure's build grows about as its objects; a small
+/// sample's fixed costs make it an overestimate, which keeps trials within their budget).
+/// `least_flight` sizes the grids as the run's.
+pub(crate) fn build_cost(world: &World, structure: Structure, least_flight: f64) -> f64 {
+    let bodies: Vec<&kinetic_core::Body> = world.bodies().iter().flatten().collect();
+    let n = bodies.len() as f64;
+    if structure == Structure::BruteForce {
+        return pair_cost(world) * n * (n - 1.0) / 2.0;
+    }
+    if bodies.is_empty() {
+        return 0.0;
+    }
+    let size = (bodies.len() / 4).clamp(16, BUILD_SAMPLE);
+    let step = bodies.len().div_ceil(size).max(1);
+    let sample: Vec<(Shape, FlightPlan)> = bodies
+        .iter()
+        .step_by(step)
+        .map(|b| (b.shape.clone(), b.plan))
+        .collect();
+    let k = sample.len() as f64;
+    let shapes: Vec<Shape> = sample.iter().map(|o| o.0.clone()).collect();
+    let start = Instant::now();
+    let Ok(candidates) = structure.build(world.kind(), &shapes, least_flight) else {
+        return 0.0;
+    };
+    let Ok(mut probe) =
+        kinetic_core::Simulator::with_structure(world.kind(), Response::None, None, candidates)
+    else {
+        return 0.0;
+    };
+    if probe.add_objects(sample).is_err() {
+        return 0.0;
+    }
+    start.elapsed().as_secs_f64() * n / k
 }
 
 /// One slice of a run and the structure that ran it.
@@ -127,11 +171,9 @@ pub(crate) struct Race {
     next_check: f64,
     /// The build that began the current slice, to note on it.
     build: f64,
-    /// The brute force's build: its pairs at the measured cost of a pair certificate,
-    /// measured when first needed.
-    brute_force_build: Option<f64>,
-    /// The number of objects.
-    objects: f64,
+    /// What each structure's build costs: measured where it was built, else estimated on a
+    /// sample ([`build_cost`]) when first needed.
+    builds: Vec<(Structure, f64)>,
     /// Objects pass through each other (no response): the brute force's events are then
     /// the contacts alone, which every structure processes too.
     passing: bool,
@@ -152,7 +194,6 @@ impl Race {
             Structure::Sweep,
             Structure::BruteForce,
         ];
-        let n = scene.objects.len() as f64;
         let passing = scene.response == Response::None;
         let to_try = if pick.runs_in_a_world() && scene.periodic.is_none() {
             shortlist
@@ -185,8 +226,7 @@ impl Race {
             spent: 0.0,
             next_check: f64::INFINITY,
             build: build_seconds,
-            brute_force_build: None,
-            objects: n,
+            builds: vec![(pick, build_seconds)],
             passing,
             contact_share: 1.0,
             slices: Vec::new(),
@@ -210,15 +250,15 @@ impl Race {
     }
 
     /// The slice from `from` to `to` took `wall` seconds on the current structure (its build
-    /// excluded). Returns the structure to switch to, if any. `pair_cost` measures what a
-    /// pair certificate costs (see [`pair_cost`]), called once, when the brute force is
+    /// excluded). Returns the structure to switch to, if any. `build_cost` estimates what a
+    /// structure's build would cost (see [`build_cost`]), called once a structure, when it is
     /// weighed.
     pub(crate) fn slice_done(
         &mut self,
         from: f64,
         to: f64,
         wall: f64,
-        pair_cost: &mut dyn FnMut() -> f64,
+        build_cost: &mut dyn FnMut(Structure) -> f64,
     ) -> Option<Structure> {
         self.slices.push(Slice {
             structure: self.current,
@@ -245,7 +285,7 @@ impl Race {
                 // trial's budget.
                 let per_trial = self.budget() / self.to_try.len() as f64;
                 self.slice = (span).max((per_trial / (ABORT * self.pace)).min(4.0 * span));
-                self.next_trial(pair_cost)
+                self.next_trial(build_cost)
             }
             Phase::Trial => {
                 let pace = self.measured_wall / span;
@@ -261,9 +301,9 @@ impl Race {
                 if pace < self.pace * (1.0 - MARGIN) {
                     self.leader = trial;
                     self.pace = pace;
-                    self.next_trial(pair_cost)
+                    self.next_trial(build_cost)
                 } else {
-                    match self.next_trial(pair_cost) {
+                    match self.next_trial(build_cost) {
                         Some(next) => Some(next),
                         None => {
                             // Back to the leader: a rebuild.
@@ -284,21 +324,37 @@ impl Race {
                 if let Some(&(runner_up, _)) = self.paces.iter().find(|p| p.0 != self.leader) {
                     self.to_try.push(runner_up);
                 }
-                self.next_trial(pair_cost)
+                self.next_trial(build_cost)
             }
         }
     }
 
     /// The next structure to try, when the budget allows; otherwise settles on the leader.
-    fn next_trial(&mut self, pair_cost: &mut dyn FnMut() -> f64) -> Option<Structure> {
+    fn next_trial(&mut self, build_cost: &mut dyn FnMut(Structure) -> f64) -> Option<Structure> {
         self.measured_wall = 0.0;
         let now = self.slices.last().map_or(0.0, |s| s.to);
         self.measured_from = now;
         // A trial costs at most its build, the rebuild of the leader and ABORT - 1 times the
-        // leader's time on its slice; builds are guessed from the one slice's cost.
+        // leader's time on its slice.
         let run = (ABORT - 1.0) * self.pace * self.slice;
         while !self.to_try.is_empty() {
             let next = self.to_try.remove(0);
+            // A trial costs at least its run and the leader's rebuild: where those do not fit
+            // what is left of the budget, its build is not even estimated (an estimate costs
+            // a sample's build), unless it may pay back its build outside the budget.
+            let leader = self
+                .builds
+                .iter()
+                .find(|b| b.0 == self.leader)
+                .map_or(0.0, |b| b.1);
+            let paid_back = next == Structure::BruteForce && self.passing;
+            if !paid_back && self.spent + run + leader > self.budget() {
+                self.untried.push(next);
+                continue;
+            }
+            let estimating = Instant::now();
+            let build = self.build_of(next, build_cost);
+            self.spent += estimating.elapsed().as_secs_f64();
             // Where objects pass through each other the brute force processes only the
             // contacts, which every structure processes too: it costs its build and the
             // contacts' share of the leader's work (measured: the share of pair events among
@@ -307,28 +363,17 @@ impl Race {
             // estimate counts twice: the probe's pairs stay in cache and a whole build's do
             // not (a build of 680,000 pairs took twice the probe's estimate).
             let rest = self.pace * (self.horizon - now);
-            if next == Structure::BruteForce && self.brute_force_build.is_none() {
-                let n = self.objects;
-                self.brute_force_build = Some(pair_cost() * n * (n - 1.0) / 2.0);
-            }
-            let brute_force_build = self.brute_force_build.unwrap_or(0.0);
             if next == Structure::BruteForce
                 && self.passing
-                && 2.0 * brute_force_build < (1.0 - MARGIN - self.contact_share) * rest
+                && 2.0 * build < (1.0 - MARGIN - self.contact_share) * rest
             {
                 self.phase = Phase::Trial;
                 self.current = next;
                 return Some(next);
             }
-            // Box structures' builds differ by up to about six times (4,042 balls of sizes
-            // 1:1150: the grid 13 ms, the loose grid 88 ms): guessed at three times the
-            // largest measured, twice over (its build, and the leader's again if it loses).
-            let build = if next == Structure::BruteForce {
-                brute_force_build.max(self.last_build())
-            } else {
-                3.0 * self.last_build()
-            };
-            if self.spent + run + 2.0 * build <= self.budget() {
+            // The trial's build counts twice, for what a sample's build leaves out (a
+            // grid's or list's growth), and the leader's build once more if it loses.
+            if self.spent + run + 2.0 * build + leader <= self.budget() {
                 self.phase = Phase::Trial;
                 self.current = next;
                 return Some(next);
@@ -348,15 +393,18 @@ impl Race {
         SHARE * self.pace * self.horizon
     }
 
-    /// The longest build of a box structure measured so far (0 before any): what the next
-    /// box structure's build is guessed to cost. The brute force's build, n^2 / 2 pairs,
-    /// says nothing of theirs.
-    fn last_build(&self) -> f64 {
-        self.slices
-            .iter()
-            .filter(|s| s.structure != Structure::BruteForce)
-            .map(|s| s.build_seconds)
-            .fold(0.0, f64::max)
+    /// What `structure`'s build costs: as measured where it was built, else as estimated.
+    fn build_of(
+        &mut self,
+        structure: Structure,
+        build_cost: &mut dyn FnMut(Structure) -> f64,
+    ) -> f64 {
+        if let Some(&(_, b)) = self.builds.iter().find(|b| b.0 == structure) {
+            return b;
+        }
+        let b = build_cost(structure);
+        self.builds.push((structure, b));
+        b
     }
 
     /// The share of pair events (contacts) among the run's events so far.
@@ -368,6 +416,8 @@ impl Race {
     pub(crate) fn switched(&mut self, build: f64) {
         self.spent += build;
         self.build = build;
+        self.builds.retain(|b| b.0 != self.current);
+        self.builds.push((self.current, build));
     }
 
     /// The slices run, in order.
@@ -405,7 +455,17 @@ mod tests {
             let to = race.slice_end(now);
             assert!(to > now, "the race stalls at {now}");
             let wall = pace(race.current()) * (to - now);
-            if race.slice_done(now, to, wall, &mut || 1e-7).is_some() {
+            if race
+                .slice_done(now, to, wall, &mut |s| {
+                    // The brute force's 2,000 objects at 0.1 us a pair.
+                    if s == Structure::BruteForce {
+                        0.2
+                    } else {
+                        build
+                    }
+                })
+                .is_some()
+            {
                 race.switched(build);
             }
             now = to;

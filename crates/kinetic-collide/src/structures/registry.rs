@@ -129,6 +129,18 @@ impl Structure {
         }
         let elastic = scene.response == Response::Elastic;
         let n = scene.objects.len();
+        let (boxes, cells, contacts) = Structure::boxes_work(scene);
+        let heavy = scene_measures::heavy_pairs(scene);
+        if cost::brute_force_pays(n, cells, contacts, heavy, elastic) {
+            return Structure::BruteForce;
+        }
+        boxes
+    }
+
+    /// The box structure the model picks for `scene` ([`Structure::boxes_for`]), and the
+    /// work it does there beyond its build: the crossings it pays for (of the grid's cells,
+    /// or the sweep's box ends counted as crossings of the same cost) and the contacts.
+    fn boxes_work(scene: &Scene) -> (Structure, f64, f64) {
         let crossings = scene_measures::crossings(scene);
         let boxes = Structure::boxes_for(scene);
         let cells = match boxes {
@@ -136,12 +148,16 @@ impl Structure {
             Structure::Sweep => cost::sweep_crossings(scene_measures::passes(scene)),
             _ => crossings,
         };
-        let contacts = scene_measures::contacts(scene);
-        let heavy = scene_measures::heavy_pairs(scene);
-        if cost::brute_force_pays(n, cells, contacts, heavy, elastic) {
-            return Structure::BruteForce;
-        }
-        boxes
+        (boxes, cells, scene_measures::contacts(scene))
+    }
+
+    /// What the model says the box structure it picks for `scene` costs, in seconds: its
+    /// build and what it spends beyond, within a bound ([`cost::boxes_cost_bounded`]).
+    /// Weighed at the start of a raced run against the rest of the brute force's build as
+    /// measured.
+    pub(crate) fn boxes_cost_seconds(scene: &Scene) -> f64 {
+        let (_, cells, contacts) = Structure::boxes_work(scene);
+        cost::boxes_cost_bounded(scene.objects.len(), cells, contacts) * 1e-6
     }
 
     /// The box structure the cost model picks for `scene` (the loose grid, the grid or the

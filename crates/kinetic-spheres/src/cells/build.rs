@@ -2,6 +2,7 @@
 
 use super::{BLOCK_CELLS_PER_BALL, CELLS_MIN, CELLS_PER_BALL, LEVEL_FACTOR};
 use super::{ElasticCells, Layout, Level, NIL, Next, WIDEN};
+use crate::bulk::{Sums, mass};
 use kinetic_core::FlightPlan;
 use kinetic_core::elastic::Motion;
 use kinetic_core::elastic::ZenoGuard;
@@ -180,6 +181,11 @@ impl ElasticCells {
             levels,
             events: Vec::new(),
             stats: Stats::default(),
+            sums: Sums::default(),
+            two_kinetic: balls
+                .iter()
+                .map(|(r, p)| mass(*r) * p.velocity_at(0.0).length_squared())
+                .sum(),
             zeno: ZenoGuard::default(),
             neighbour_buffer: Vec::new(),
         };

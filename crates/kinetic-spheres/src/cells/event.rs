@@ -1,6 +1,7 @@
 //! The event loop: each ball's scheduled event in time order, and the responses.
 
 use super::{ElasticCells, Event, Next};
+use crate::bulk::mass;
 use kinetic_core::FlightPlan;
 use kinetic_core::Real;
 use kinetic_core::elastic::Motion;
@@ -72,7 +73,10 @@ impl ElasticCells {
                 }
             }
             Event::Wall(hit) => {
+                let old = self.plans[id as usize].velocity_at(self.now)[hit.axis];
                 let plan = bounced(&self.plans[id as usize], hit, self.now);
+                let dv = plan.velocity_at(self.now)[hit.axis] - old;
+                self.sums.wall_impulse += mass(self.radius[id as usize]) * dv.abs();
                 self.stats.bounces += 1;
                 self.replan(id, plan);
                 self.predict(id, true);
@@ -125,6 +129,7 @@ impl ElasticCells {
             let (ra, rb) = (self.radius[a as usize], self.radius[b as usize]);
             let (pa, pb) = (self.plans[a as usize], self.plans[b as usize]);
             if let Some((na, nb)) = elastic_exchange(&pa, ra, &pb, rb, self.now) {
+                self.sums.collisions += 1;
                 self.replan(a, na);
                 self.replan(b, nb);
                 self.predict(a, true);

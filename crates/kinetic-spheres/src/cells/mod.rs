@@ -37,6 +37,7 @@ mod predict;
 mod query;
 mod validate;
 
+use crate::bulk::Sums;
 use kinetic_core::FlightPlan;
 use kinetic_core::elastic::Motion;
 use kinetic_core::elastic::WallHit;
@@ -192,6 +193,10 @@ pub struct ElasticCells {
     levels: Vec<Level>,
     events: Vec<ContactEvent>,
     stats: Stats,
+    /// What the bulk figures sum since they were last started.
+    sums: Sums,
+    /// Twice the kinetic energy, `sum m v^2` (constant: collisions are elastic).
+    two_kinetic: Real,
     zeno: ZenoGuard,
     /// A buffer for neighbour lists.
     neighbour_buffer: Vec<u32>,

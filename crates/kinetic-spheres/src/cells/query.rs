@@ -1,6 +1,7 @@
 //! What the grid tells about itself: the clock, the balls, the statistics and figures.
 
 use super::ElasticCells;
+use crate::bulk::{Bulk, Sums, ball_volume};
 use kinetic_core::FlightPlan;
 use kinetic_core::Real;
 use kinetic_core::{ContactEvent, Stats};
@@ -76,6 +77,21 @@ impl ElasticCells {
             total += out.len();
         }
         total / 2
+    }
+
+    /// Starts the bulk figures afresh from now (after the system has equilibrated).
+    pub fn reset_bulk(&mut self) {
+        self.sums = Sums::from(self.now);
+    }
+
+    /// Collision rate, temperature and the pressure on the walls over the run so far (masses
+    /// `(2 r)^3`, as [`crate::ListedSpheres::bulk`] has them).
+    pub fn bulk(&self) -> Bulk {
+        let filled = self.radius.iter().map(|&r| ball_volume(r)).sum();
+        let side = self.walls.max - self.walls.min;
+        let n = self.len();
+        self.sums
+            .figures(self.now, n, self.two_kinetic, side, true, filled)
     }
 
     /// The kinetic energy now (masses radius cubed, as the response has them).

@@ -6,6 +6,7 @@ use super::grid::CentreGrid;
 use super::lists::Lists;
 use super::runners::SavedRunners;
 use super::{ListCentre, ListedSpheres, NEIGHBOURS, Period, PeriodicBox, SHELL, SLACK};
+use crate::bulk::{Sums, mass};
 use kinetic_core::FlightPlan;
 use kinetic_core::elastic::Motion;
 use kinetic_core::elastic::ZenoGuard;
@@ -168,7 +169,7 @@ impl ListedSpheres {
             .collect();
         let two_kinetic = motion
             .iter()
-            .map(|m| (2.0 * m.radius).powi(3) * m.velocity.length_squared())
+            .map(|m| mass(m.radius) * m.velocity.length_squared())
             .sum();
         let centre: Vec<ListCentre> = motion
             .iter()
@@ -196,11 +197,8 @@ impl ListedSpheres {
             skips: FxHashMap::default(),
             events: Vec::new(),
             stats: Stats::default(),
-            collisions: 0,
-            virial: 0.0,
-            wall_impulse: 0.0,
+            sums: Sums::default(),
             two_kinetic,
-            start: 0.0,
             zeno: ZenoGuard::default(),
             list_factor: shell * (1.0 + SLACK),
             event_counts: [0; 5],

@@ -2,6 +2,7 @@
 //! events, shell crossings, wall contacts.
 
 use super::{Kind, ListedSpheres, Motion, Period, Scheduled};
+use crate::bulk::mass;
 use kinetic_core::FlightPlan;
 use kinetic_core::elastic::{Exchange, bounced};
 use kinetic_core::prefetch;
@@ -23,8 +24,7 @@ pub(super) fn exchange(
 ) -> Option<(Vec3, Vec3, Real)> {
     let d = (ma.at(now) - mb.at(now)) - shift;
     let e = Exchange::of(d, ma.velocity, mb.velocity, ma.radius, mb.radius)?;
-    let mass_a = (2.0 * ma.radius).powi(3);
-    Some((e.va, e.vb, mass_a * e.dv_a * e.distance))
+    Some((e.va, e.vb, mass(ma.radius) * e.dv_a * e.distance))
 }
 
 /// `p` wrapped into the box, and the whole periods taken off it.
@@ -114,8 +114,8 @@ impl ListedSpheres {
         let shift = self.period.nearest(ma.at(now) - mb.at(now));
         if !graze && let Some((va, vb, virial)) = exchange(&ma, &mb, shift, now) {
             self.event_counts[0] += 1;
-            self.collisions += 1;
-            self.virial += virial;
+            self.sums.collisions += 1;
+            self.sums.virial += virial;
             self.replan(a, va);
             self.replan(b, vb);
             self.predict(a);
@@ -169,8 +169,8 @@ impl ListedSpheres {
         let plan = FlightPlan::linear(m.position, m.velocity).starting_at(m.t0);
         let velocity = bounced(&plan, hit, self.now).velocity;
         self.stats.bounces += 1;
-        let mass = (2.0 * m.radius).powi(3);
-        self.wall_impulse += mass * (velocity[hit.axis] - m.velocity[hit.axis]).abs();
+        self.sums.wall_impulse +=
+            mass(m.radius) * (velocity[hit.axis] - m.velocity[hit.axis]).abs();
         self.replan(id, velocity);
     }
 

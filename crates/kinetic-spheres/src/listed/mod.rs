@@ -44,6 +44,7 @@ mod predict;
 mod runners;
 mod validate;
 
+use crate::bulk::{Bulk, Sums, ball_volume};
 use calendar::Calendar;
 use kinetic_core::elastic::Motion;
 use kinetic_core::elastic::ROUNDING;
@@ -259,16 +260,10 @@ pub struct ListedSpheres {
     skips: FxHashMap<u32, Vec<(u32, u32, Real)>>,
     events: Vec<ContactEvent>,
     stats: Stats,
-    /// Collisions, and the sum over them of `r_ab . dp_a` (contact vector times impulse, mass
-    /// `(2 r)^3`): the collision virial.
-    collisions: u64,
-    virial: Real,
-    /// The impulse the walls gave, summed over their contacts (mass `(2 r)^3`).
-    wall_impulse: Real,
+    /// What the bulk figures sum since they were last started.
+    sums: Sums,
     /// Twice the kinetic energy, `sum m v^2` (constant: collisions are elastic).
     two_kinetic: Real,
-    /// Time from which the bulk figures are taken.
-    start: Real,
     zeno: ZenoGuard,
     /// A pair is listed when its centres are within this many times its sum of radii.
     list_factor: Real,
@@ -283,22 +278,6 @@ pub struct ListedSpheres {
     wide: bool,
     /// Room for the spheres a relist finds.
     found: Vec<u32>,
-}
-
-/// Bulk figures of a run: collision rate, temperature and pressure.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Bulk {
-    /// Collisions per sphere per unit time.
-    pub collision_rate: Real,
-    /// `kT`: twice the kinetic energy per sphere over three (mass `(2 r)^3`).
-    pub temperature: Real,
-    /// Pressure: in a periodic box from the collision virial, `(N kT + W / (3 t)) / V`; inside
-    /// walls the impulse the walls gave per unit of their area and of time.
-    pub pressure: Real,
-    /// `P V / (N kT)`.
-    pub compressibility: Real,
-    /// Fraction of the box the spheres fill.
-    pub packing: Real,
 }
 
 impl ListedSpheres {
@@ -330,10 +309,7 @@ impl ListedSpheres {
 
     /// Starts the bulk figures afresh from now (after the system has equilibrated).
     pub fn reset_bulk(&mut self) {
-        self.start = self.now;
-        self.collisions = 0;
-        self.virial = 0.0;
-        self.wall_impulse = 0.0;
+        self.sums = Sums::from(self.now);
     }
 
     /// Takes the contact events found so far.
@@ -348,34 +324,11 @@ impl ListedSpheres {
 
     /// Collision rate, temperature and pressure over the run so far.
     pub fn bulk(&self) -> Bulk {
-        let n = self.len().max(1) as Real;
-        let side = self.period.side;
-        let volume = side.x * side.y * side.z;
-        let elapsed = self.now - self.start;
-        let kt = self.two_kinetic / (3.0 * n);
-        let per_time = if elapsed > 0.0 { 1.0 / elapsed } else { 0.0 };
-        let pressure = if self.walls.is_some() {
-            let area = 2.0 * (side.x * side.y + side.y * side.z + side.z * side.x);
-            self.wall_impulse * per_time / area
-        } else {
-            (n * kt + self.virial * per_time / 3.0) / volume
-        };
-        let filled: Real = self
-            .motion
-            .iter()
-            .map(|m| 4.0 / 3.0 * std::f64::consts::PI * m.radius.powi(3))
-            .sum();
-        Bulk {
-            collision_rate: 2.0 * self.collisions as Real * per_time / n,
-            temperature: kt,
-            pressure,
-            compressibility: if kt > 0.0 {
-                pressure * volume / (n * kt)
-            } else {
-                1.0
-            },
-            packing: filled / volume,
-        }
+        let filled = self.motion.iter().map(|m| ball_volume(m.radius)).sum();
+        let (side, walls) = (self.period.side, self.walls.is_some());
+        let n = self.len();
+        self.sums
+            .figures(self.now, n, self.two_kinetic, side, walls, filled)
     }
 
     /// The structure's own counters: neighbours listed, list capacity, cells, and the stale
