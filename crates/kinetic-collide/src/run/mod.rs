@@ -17,7 +17,7 @@ use std::cell::RefCell;
 use std::fmt::Write as _;
 use std::ops::ControlFlow;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// Why a run could not be done.
 #[derive(Debug, thiserror::Error)]
@@ -167,6 +167,8 @@ enum Reached {
     Time,
     /// Stopped on request at the simulation's clock.
     Stopped(String),
+    /// Paused at the simulation's clock, between two instants, at a wall-clock deadline.
+    Deadline,
 }
 
 /// Hands the events `sim` holds to the sink.
@@ -186,7 +188,19 @@ fn drive(
     until: f64,
     stream: &mut Stream<'_>,
 ) -> Result<Reached, WorldError> {
+    drive_within(sim, until, stream, None)
+}
+
+/// [`drive`], pausing between two instants (its clock at the last event) once the wall clock
+/// passes `deadline`, looked at every 64 events.
+fn drive_within(
+    sim: &mut impl Simulation,
+    until: f64,
+    stream: &mut Stream<'_>,
+    deadline: Option<Instant>,
+) -> Result<Reached, WorldError> {
     let mut steps = 0usize;
+    let mut looked = 0usize;
     loop {
         let stepped = match sim.step_to(until) {
             Ok(stepped) => stepped,
@@ -199,6 +213,16 @@ fn drive(
         // A batch ends only between instants, so ties stay in (a, b) order across batches.
         if stepped && sim.next_time() <= sim.clock() {
             continue;
+        }
+        looked += 1;
+        if stepped && looked >= 64 {
+            looked = 0;
+            if deadline.is_some_and(|d| Instant::now() >= d) {
+                return Ok(match flush(sim, stream) {
+                    ControlFlow::Break(reason) => Reached::Stopped(reason),
+                    ControlFlow::Continue(()) => Reached::Deadline,
+                });
+            }
         }
         let stop = stream.stop.is_some_and(|s| s.load(Ordering::Relaxed));
         if steps >= BATCH || !stepped || stop {
@@ -286,10 +310,21 @@ fn drive_racing(
 ) -> Result<Reached, WorldError> {
     loop {
         let from = world.now();
-        let to = race.slice_end(from).min(until);
+        let planned = race.slice_end(from).min(until);
         let start = Instant::now();
-        let reached = drive(world, to, stream)?;
+        let deadline = race
+            .wall_limit(planned)
+            .map(|limit| start + Duration::from_secs_f64(limit));
+        let mut reached = drive_within(world, planned, stream, deadline)?;
         let wall = start.elapsed().as_secs_f64();
+        // A trial past its wall-clock limit ends its slice where it stands: it has lost.
+        let to = match reached {
+            Reached::Deadline => {
+                reached = Reached::Time;
+                world.now()
+            }
+            _ => planned,
+        };
         let stats = world.stats();
         let pairs = stats.events_by_kind.get("collision").copied().unwrap_or(0);
         race.contact_share(pairs as f64 / stats.events_total().max(1) as f64);
@@ -593,7 +628,8 @@ impl RunOutput {
     /// The output of a run that ended at `now` with `result`: stopped runs keep it as partial.
     fn finish(self, result: Result<Reached, WorldError>, now: f64) -> Result<RunOutput, RunError> {
         match result {
-            Ok(Reached::Time) => Ok(self),
+            // A paused run reaches here only through a race, which goes on from it.
+            Ok(Reached::Time | Reached::Deadline) => Ok(self),
             Ok(Reached::Stopped(reason)) => Ok(RunOutput {
                 interrupted: Some(Interruption { time: now, reason }),
                 ..self

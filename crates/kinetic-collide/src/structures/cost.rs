@@ -80,24 +80,6 @@ pub(crate) fn boxes_cost(n: usize, crossings: Real, contacts: Real) -> Real {
     OBJECT_COST * n as Real + CROSSING_COST * crossings + CONTACT_COST * contacts.max(0.0)
 }
 
-/// The most a box structure's whole run is taken to cost, in its builds, where a measured
-/// brute force is weighed against the model's box structure ([`boxes_cost_bounded`]). The
-/// model's crossings and contacts are far off where bullets cross the scene or a giant
-/// spreads the sizes (1,213 balls with 58 bullets and a giant: 1.17 s estimated, 0.05 s on
-/// the loose grid); the fastest box structure's whole run measured 8 to 17 times its build on
-/// the scenes of 68 to 1,213 objects where the model picks the brute force (draws of
-/// `kinetic_scenes::space`, `docs/results/choice.md`).
-pub(crate) const BOXES_RUN_MOST: Real = 10.0;
-
-/// [`boxes_cost`], at most [`BOXES_RUN_MOST`] times the build's: what the box structure is
-/// taken to cost where a measured brute force is weighed against it. Where the two are
-/// close the brute force is the riskier pick: a run that starts on a box structure can still
-/// move to the brute force once it has measured its pace, and one that has paid the brute
-/// force's build keeps it.
-pub(crate) fn boxes_cost_bounded(n: usize, crossings: Real, contacts: Real) -> Real {
-    boxes_cost(n, crossings, contacts).min(BOXES_RUN_MOST * OBJECT_COST * n as Real)
-}
-
 /// The structure for an exact event simulation of objects whose outer radii spread by
 /// `spread` (see [`spread`]), measured fastest on the choice family
 /// (`docs/results/choice.md`):

@@ -249,6 +249,17 @@ impl Race {
         end.min(self.horizon)
     }
 
+    /// The wall seconds the slice starting now and planned to end at `to` may take, or
+    /// `None` for no limit: a trial is stopped where it passes [`ABORT`] times the leader's
+    /// pace over what it has run (it has lost), however slow it is (a grid 100 times slower
+    /// than the loose grid on 54,000 balls on a plane would otherwise run its whole slice).
+    pub(crate) fn wall_limit(&self, to: f64) -> Option<f64> {
+        (self.phase == Phase::Trial && self.pace.is_finite()).then(|| {
+            let allowed = ABORT * self.pace * (to - self.measured_from) - self.measured_wall;
+            allowed.max(LEAST_WALL)
+        })
+    }
+
     /// The slice from `from` to `to` took `wall` seconds on the current structure (its build
     /// excluded). Returns the structure to switch to, if any. `build_cost` estimates what a
     /// structure's build would cost (see [`build_cost`]), called once a structure, when it is
