@@ -51,13 +51,20 @@ fn whole_run(
     }
 }
 
-/// The most of the horizon a trial in walls runs ([`faster_in_walls`]): each of the two
-/// trials costs at most this share of its own run, as projected.
+/// The share of the horizon the trials in walls run ([`faster_in_walls`]): together at most
+/// about three times this share of the run, as projected, besides the builds. Shorter
+/// trials measure the lists before their shells are first crossed, which at packings of 1%
+/// makes them look faster than they are.
 const WALLS_TRIAL_SHARE: f64 = 1.0 / 64.0;
 
-/// The wall seconds a trial in walls runs, where its share of the horizon allows: shorter
-/// measurements are mostly this machine's noise.
-const WALLS_TRIAL_WALL: f64 = 0.002;
+/// The most wall seconds the lists' trial runs, for runs so long that their share of the
+/// horizon would take longer.
+const WALLS_TRIAL_WALL: f64 = 1.0;
+
+/// The share of the lists' projected run the cell grid's trial may cost at least (its build
+/// and its run to the same time): beyond it the run keeps the lists untried against (short
+/// runs, whose builds cost most of them).
+const WALLS_TRIAL_BUDGET: f64 = 0.1;
 
 /// Elastic balls in walls that the neighbour lists and the cell grid both hold (sizes within a
 /// factor of two): which of the two runs `scene` faster, measured, and the two trials as
@@ -65,12 +72,13 @@ const WALLS_TRIAL_WALL: f64 = 0.002;
 /// sparse, a sphere's shell holds few neighbours and it crosses it often, and the cell grid
 /// can be twice as fast (measured: 125 and 251 spheres at packings 0.024 and 0.010).
 ///
-/// Each trial runs from the start of the run without a log: the lists for
-/// [`WALLS_TRIAL_WALL`] seconds or [`WALLS_TRIAL_SHARE`] of the horizon, whichever comes
-/// first, the cell grid to the same time, stopped once it has taken twice as long. Each
-/// projects its whole run, its build and its pace over the horizon, and the run then starts
-/// afresh on the faster (every structure gives the same log). A trial that fails, or a `stop`
-/// set meanwhile, leaves the lists.
+/// Each trial runs from the start of the run without a log: the lists over
+/// [`WALLS_TRIAL_SHARE`] of the horizon (at most [`WALLS_TRIAL_WALL`] seconds), then, where
+/// that costs at most [`WALLS_TRIAL_BUDGET`] of the lists' projected run, the cell grid to the
+/// same time, stopped once it has taken twice as long. Each projects its whole run, its
+/// build and its pace over the horizon, and the run then starts afresh on the faster (every
+/// structure gives the same log). A trial that fails, or a `stop` set meanwhile, leaves the
+/// lists.
 pub(super) fn faster_in_walls(scene: &Scene, stop: Option<&AtomicBool>) -> (Structure, Vec<Slice>) {
     let (Some((walls, balls)), Some(_)) = (listed_balls(scene), cell_balls(scene)) else {
         return (Structure::Lists, Vec::new());
@@ -100,6 +108,11 @@ pub(super) fn faster_in_walls(scene: &Scene, stop: Option<&AtomicBool>) -> (Stru
     let lists_wall = run.elapsed().as_secs_f64();
     drop(gas);
     let mut trials = vec![slice(Structure::Lists, to, lists_wall, lists_build)];
+    // The cell grid's build is about half the lists' (measured at 125 to 32,000 spheres).
+    let lists_run = lists_build + lists_wall / to.max(f64::MIN_POSITIVE) * horizon;
+    if 0.5 * lists_build + lists_wall > WALLS_TRIAL_BUDGET * lists_run {
+        return (Structure::Lists, trials);
+    }
     let built = Instant::now();
     let Ok(mut cells) = ElasticCells::new(walls, &balls) else {
         return (Structure::Lists, trials);
