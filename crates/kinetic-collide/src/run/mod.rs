@@ -63,8 +63,9 @@ pub struct RunOutput {
     pub structure: Structure,
     /// A run without a named structure: which structure ran each slice of it and what each
     /// slice cost, in order (the structures tried, their cost, and when the run switched).
-    /// Elastic balls in walls that two structures hold list the two trials, each from the
-    /// start without a log, then the whole run on the faster. Empty when the structure was
+    /// Elastic balls in walls that two structures hold list the trials (the lists', and the
+    /// cell grid's where it was tried), each from the start without a log, then the whole
+    /// run on the faster. Empty when the structure was
     /// named or the scene has one structure only.
     pub race: Vec<Slice>,
     /// Number of objects.
@@ -254,9 +255,9 @@ fn drive_within(
 /// The brute force is built in three batches, so that what it costs is measured as it is
 /// paid: a quarter of [`PROBE_OBJECTS`] objects (which also pays the world's first
 /// allocations), as many again, and the rest. After the second the rest of its build is
-/// projected at that batch's cost per pair, and where that passes the model's cost of the box
-/// structure, build and run ([`Structure::boxes_cost_seconds`]), the box structure is built
-/// instead. A brute force that pays is thus built at no extra cost, and one that does not
+/// projected at that batch's cost per pair, and where that passes the model's cost of the
+/// cheapest box structure, build and run ([`Structure::boxes_cost_seconds`]), the spread
+/// rule's box structure is built instead (the race then finds the fastest). A brute force that pays is thus built at no extra cost, and one that does not
 /// costs the pairs of half of [`PROBE_OBJECTS`] objects. The decision is taken once: a
 /// projection that shrinks as the build goes on would otherwise be followed until it is
 /// dearest to leave.

@@ -58,8 +58,8 @@ fn whole_run(
 const WALLS_TRIAL_SHARE: f64 = 1.0 / 64.0;
 
 /// The most wall seconds the lists' trial runs, for runs so long that their share of the
-/// horizon would take longer.
-const WALLS_TRIAL_WALL: f64 = 1.0;
+/// horizon would take longer: a streamed log starts within a few tenths of a second.
+const WALLS_TRIAL_WALL: f64 = 0.1;
 
 /// The share of the lists' projected run the cell grid's trial may cost at least (its build
 /// and its run to the same time): beyond it the run keeps the lists untried against (short
@@ -75,7 +75,7 @@ const WALLS_TRIAL_BUDGET: f64 = 0.1;
 /// Each trial runs from the start of the run without a log: the lists over
 /// [`WALLS_TRIAL_SHARE`] of the horizon (at most [`WALLS_TRIAL_WALL`] seconds), then, where
 /// that costs at most [`WALLS_TRIAL_BUDGET`] of the lists' projected run, the cell grid to the
-/// same time, stopped once it has taken twice as long. Each projects its whole run, its
+/// same time, stopped once its run has taken as long as the lists'. Each projects its whole run, its
 /// build and its pace over the horizon, and the run then starts afresh on the faster (every
 /// structure gives the same log). A trial that fails, or a `stop` set meanwhile, leaves the
 /// lists.
@@ -119,7 +119,8 @@ pub(super) fn faster_in_walls(scene: &Scene, stop: Option<&AtomicBool>) -> (Stru
     };
     let cells_build = built.elapsed().as_secs_f64();
     let run = Instant::now();
-    let lost = 2.0 * (lists_wall + lists_build) - cells_build;
+    // Slower over the same span than the lists, the cell grid has lost.
+    let lost = lists_wall;
     let Some(reached) = trial(&mut cells, to, lost.max(0.0), stop) else {
         return (Structure::Lists, trials);
     };

@@ -54,17 +54,10 @@ pub(crate) const PROBE_OBJECTS: usize = 64;
 /// that the probe costs at most a sixteenth of the whole build), spread over the ids (so over
 /// its sizes and shapes), with their plans at the world's time.
 pub(crate) fn pair_cost(world: &World) -> f64 {
-    let bodies: Vec<&kinetic_core::Body> = world.bodies().iter().flatten().collect();
-    if bodies.len() < 2 {
+    let sample = sample(world, PROBE_OBJECTS);
+    if sample.len() < 2 {
         return 0.0;
     }
-    let size = (bodies.len() / 4).clamp(16, PROBE_OBJECTS);
-    let step = bodies.len().div_ceil(size).max(1);
-    let sample: Vec<(Shape, FlightPlan)> = bodies
-        .iter()
-        .step_by(step)
-        .map(|b| (b.shape.clone(), b.plan))
-        .collect();
     let k = sample.len() as f64;
     let start = Instant::now();
     // Passing through each other: the certificates, without walls or bounces.
@@ -85,21 +78,14 @@ const BUILD_SAMPLE: usize = 256;
 /// sample's fixed costs make it an overestimate, which keeps trials within their budget).
 /// `least_flight` sizes the grids as the run's.
 pub(crate) fn build_cost(world: &World, structure: Structure, least_flight: f64) -> f64 {
-    let bodies: Vec<&kinetic_core::Body> = world.bodies().iter().flatten().collect();
-    let n = bodies.len() as f64;
+    let n = world.len() as f64;
     if structure == Structure::BruteForce {
         return pair_cost(world) * n * (n - 1.0) / 2.0;
     }
-    if bodies.is_empty() {
+    let sample = sample(world, BUILD_SAMPLE);
+    if sample.is_empty() {
         return 0.0;
     }
-    let size = (bodies.len() / 4).clamp(16, BUILD_SAMPLE);
-    let step = bodies.len().div_ceil(size).max(1);
-    let sample: Vec<(Shape, FlightPlan)> = bodies
-        .iter()
-        .step_by(step)
-        .map(|b| (b.shape.clone(), b.plan))
-        .collect();
     let k = sample.len() as f64;
     let shapes: Vec<Shape> = sample.iter().map(|o| o.0.clone()).collect();
     let start = Instant::now();
@@ -115,6 +101,19 @@ pub(crate) fn build_cost(world: &World, structure: Structure, least_flight: f64)
         return 0.0;
     }
     start.elapsed().as_secs_f64() * n / k
+}
+
+/// A quarter of the world's objects (at least 16, at most `most`), spread over the ids (so
+/// over their sizes and shapes), with their plans at the world's time.
+fn sample(world: &World, most: usize) -> Vec<(Shape, FlightPlan)> {
+    let bodies: Vec<&kinetic_core::Body> = world.bodies().iter().flatten().collect();
+    let size = (bodies.len() / 4).clamp(16, most);
+    let step = bodies.len().div_ceil(size).max(1);
+    bodies
+        .iter()
+        .step_by(step)
+        .map(|b| (b.shape.clone(), b.plan))
+        .collect()
 }
 
 /// One slice of a run and the structure that ran it.
