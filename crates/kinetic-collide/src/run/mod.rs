@@ -442,14 +442,14 @@ pub fn run_scene_streamed(
     if matches!(chosen, Structure::Cells | Structure::Lists) {
         if times.is_empty() {
             // Without a name, the two that hold balls in walls are measured.
-            let (chosen, trials) = match structure {
+            let (chosen, trials, built) = match structure {
                 None if chosen == Structure::Lists => faster_in_walls(scene, stream.stop),
-                _ => (chosen, Vec::new()),
+                _ => (chosen, Vec::new(), None),
             };
             let mut output = if chosen == Structure::Cells {
                 run_cells(scene, start, stream)
             } else {
-                run_listed(scene, start, stream)
+                run_listed(scene, start, stream, built)
             }?;
             if !trials.is_empty() {
                 let tried: f64 = trials.iter().map(|t| t.wall_seconds).sum();

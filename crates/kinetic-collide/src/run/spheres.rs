@@ -75,13 +75,18 @@ const WALLS_TRIAL_BUDGET: f64 = 0.1;
 /// Each trial runs from the start of the run without a log: the lists over
 /// [`WALLS_TRIAL_SHARE`] of the horizon (at most [`WALLS_TRIAL_WALL`] seconds), then, where
 /// that costs at most [`WALLS_TRIAL_BUDGET`] of the lists' projected run, the cell grid to the
-/// same time, stopped once its run has taken as long as the lists'. Each projects its whole run, its
-/// build and its pace over the horizon, and the run then starts afresh on the faster (every
-/// structure gives the same log). A trial that fails, or a `stop` set meanwhile, leaves the
-/// lists.
-pub(super) fn faster_in_walls(scene: &Scene, stop: Option<&AtomicBool>) -> (Structure, Vec<Slice>) {
+/// same time, stopped once its run has taken as long as the lists'. Each projects its whole
+/// run, its build and its pace over the horizon. The lists' trial runs a copy, so that the
+/// lists, where they win, start from the one built; the cell grid, where it wins, is built
+/// afresh (every structure gives the same log). A trial that fails, or a `stop` set meanwhile,
+/// leaves the lists. Returns the structure, the trials and the lists as built where they
+/// won.
+pub(super) fn faster_in_walls(
+    scene: &Scene,
+    stop: Option<&AtomicBool>,
+) -> (Structure, Vec<Slice>, Option<ListedSpheres>) {
     let (Some((walls, balls)), Some(_)) = (listed_balls(scene), cell_balls(scene)) else {
-        return (Structure::Lists, Vec::new());
+        return (Structure::Lists, Vec::new(), None);
     };
     let horizon = scene.horizon;
     let slice = |structure, to: f64, wall: f64, build: f64| Slice {
@@ -92,10 +97,11 @@ pub(super) fn faster_in_walls(scene: &Scene, stop: Option<&AtomicBool>) -> (Stru
         build_seconds: build,
     };
     let built = Instant::now();
-    let Ok(mut gas) = ListedSpheres::in_walls(walls, &balls) else {
-        return (Structure::Lists, Vec::new());
+    let Ok(built_gas) = ListedSpheres::in_walls(walls, &balls) else {
+        return (Structure::Lists, Vec::new(), None);
     };
     let lists_build = built.elapsed().as_secs_f64();
+    let mut gas = built_gas.clone();
     let run = Instant::now();
     let Some(to) = trial(
         &mut gas,
@@ -103,7 +109,7 @@ pub(super) fn faster_in_walls(scene: &Scene, stop: Option<&AtomicBool>) -> (Stru
         WALLS_TRIAL_WALL,
         stop,
     ) else {
-        return (Structure::Lists, Vec::new());
+        return (Structure::Lists, Vec::new(), Some(built_gas));
     };
     let lists_wall = run.elapsed().as_secs_f64();
     drop(gas);
@@ -111,18 +117,18 @@ pub(super) fn faster_in_walls(scene: &Scene, stop: Option<&AtomicBool>) -> (Stru
     // The cell grid's build is about half the lists' (measured at 125 to 32,000 spheres).
     let lists_run = lists_build + lists_wall / to.max(f64::MIN_POSITIVE) * horizon;
     if 0.5 * lists_build + lists_wall > WALLS_TRIAL_BUDGET * lists_run {
-        return (Structure::Lists, trials);
+        return (Structure::Lists, trials, Some(built_gas));
     }
     let built = Instant::now();
     let Ok(mut cells) = ElasticCells::new(walls, &balls) else {
-        return (Structure::Lists, trials);
+        return (Structure::Lists, trials, Some(built_gas));
     };
     let cells_build = built.elapsed().as_secs_f64();
     let run = Instant::now();
     // Slower over the same span than the lists, the cell grid has lost.
     let lost = lists_wall;
     let Some(reached) = trial(&mut cells, to, lost.max(0.0), stop) else {
-        return (Structure::Lists, trials);
+        return (Structure::Lists, trials, Some(built_gas));
     };
     trials.push(slice(
         Structure::Cells,
@@ -134,12 +140,11 @@ pub(super) fn faster_in_walls(scene: &Scene, stop: Option<&AtomicBool>) -> (Stru
         let pace = (t.wall_seconds - t.build_seconds) / t.to.max(f64::MIN_POSITIVE);
         t.build_seconds + pace * horizon
     };
-    let pick = if projected(&trials[1]) < projected(&trials[0]) {
-        Structure::Cells
+    if projected(&trials[1]) < projected(&trials[0]) {
+        (Structure::Cells, trials, None)
     } else {
-        Structure::Lists
-    };
-    (pick, trials)
+        (Structure::Lists, trials, Some(built_gas))
+    }
 }
 
 /// Runs `sim` without a log until `until` or for `wall` seconds (checked every 64 events),
@@ -195,12 +200,14 @@ pub(super) fn run_cells(
     output.finish(result, cells.now())
 }
 
-/// Runs a scene of elastic balls of similar sizes in walls on neighbour lists, with the bulk
-/// figures of the whole run (the pressure is that on the walls).
+/// Runs a scene of elastic balls of similar sizes in walls on neighbour lists (`built`, when
+/// given, is that scene's lists, built and not yet run), with the bulk figures of the whole
+/// run (the pressure is that on the walls).
 pub(super) fn run_listed(
     scene: &Scene,
     start: Instant,
     stream: &mut Stream<'_>,
+    built: Option<ListedSpheres>,
 ) -> Result<RunOutput, RunError> {
     let (walls, balls) = listed_balls(scene).ok_or_else(|| {
         RunError::Input(
@@ -209,8 +216,11 @@ pub(super) fn run_listed(
                 .to_string(),
         )
     })?;
-    let mut gas = ListedSpheres::in_walls(walls, &balls)
-        .map_err(|e| RunError::Input(format!("objects: {e}")))?;
+    let mut gas = match built {
+        Some(gas) => gas,
+        None => ListedSpheres::in_walls(walls, &balls)
+            .map_err(|e| RunError::Input(format!("objects: {e}")))?,
+    };
     let (result, measured) = measure(&mut gas, scene.horizon, 0.0, stream);
     let output = whole_run(
         scene,

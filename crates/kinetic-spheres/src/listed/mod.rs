@@ -234,7 +234,7 @@ fn round(v: Vec3) -> Vec3 {
 /// // The first sphere leaves through x = 0 and meets the second's image at t = 2.
 /// assert_eq!(events[0].time, 2.0);
 /// ```
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct ListedSpheres {
     now: Real,
     period: Period,
