@@ -65,8 +65,8 @@ pub struct RunOutput {
     /// slice cost, in order (the structures tried, their cost, and when the run switched).
     /// Elastic balls in walls that two structures hold list the trials (the lists', and the
     /// cell grid's where it was tried), each from the start without a log, then the whole
-    /// run on the faster. Empty when the structure was
-    /// named or the scene has one structure only.
+    /// run on the faster. Empty when the structure was named or the scene has one structure
+    /// only.
     pub race: Vec<Slice>,
     /// Number of objects.
     pub objects: usize,
@@ -257,8 +257,9 @@ fn drive_within(
 /// allocations), as many again, and the rest. After the second the rest of its build is
 /// projected at that batch's cost per pair, and where that passes the model's cost of the
 /// cheapest box structure, build and run ([`Structure::boxes_cost_seconds`]), the spread
-/// rule's box structure is built instead (the race then finds the fastest). A brute force that pays is thus built at no extra cost, and one that does not
-/// costs the pairs of half of [`PROBE_OBJECTS`] objects. The decision is taken once: a
+/// rule's box structure is built instead (the race then finds the fastest). A brute force
+/// that pays is thus built at no extra cost, and one that does not costs the pairs of half
+/// of [`PROBE_OBJECTS`] objects. The decision is taken once: a
 /// projection that shrinks as the build goes on would otherwise be followed until it is
 /// dearest to leave.
 fn raced_start(scene: &Scene, chosen: Structure) -> Result<(World, Structure, f64), RunError> {
@@ -333,7 +334,7 @@ fn drive_racing(
         let next = race.slice_done(from, to, wall, &mut |s| build_cost(world, s, least_flight));
         if let Some(next) = next {
             let build = Instant::now();
-            world.switch_structure(next, horizon / FLIGHT_PARTS)?;
+            world.switch_structure(next, least_flight)?;
             race.switched(build.elapsed().as_secs_f64());
         }
         if !matches!(reached, Reached::Time) || to >= until {

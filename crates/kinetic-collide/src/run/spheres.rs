@@ -2,14 +2,15 @@
 //! or in neighbour lists, and a periodic box, whose bulk figures are measured over a window of the run that leaves
 //! out its start (melting from a lattice, say), in blocks that give their uncertainty.
 
-use super::{Reached, RunError, RunOutput, Simulation, Slice, Stream, drive};
+use super::{Reached, RunError, RunOutput, Simulation, Slice, Stream, drive, drive_within};
 use crate::Structure;
 use crate::scene::Scene;
 use crate::structures::{cell_balls, listed_balls, periodic_balls};
-use kinetic_core::WorldError;
+use kinetic_core::{ContactEvent, WorldError};
 use kinetic_spheres::{Bulk, ElasticCells, ListedSpheres};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Instant;
+use std::ops::ControlFlow;
+use std::sync::atomic::AtomicBool;
+use std::time::{Duration, Instant};
 
 /// The bulk figures' blocks: the window is cut into this many of equal length, and the
 /// figures' uncertainty is the standard error of the block means.
@@ -126,8 +127,7 @@ pub(super) fn faster_in_walls(
     let cells_build = built.elapsed().as_secs_f64();
     let run = Instant::now();
     // Slower over the same span than the lists, the cell grid has lost.
-    let lost = lists_wall;
-    let Some(reached) = trial(&mut cells, to, lost.max(0.0), stop) else {
+    let Some(reached) = trial(&mut cells, to, lists_wall, stop) else {
         return (Structure::Lists, trials, Some(built_gas));
     };
     trials.push(slice(
@@ -147,7 +147,7 @@ pub(super) fn faster_in_walls(
     }
 }
 
-/// Runs `sim` without a log until `until` or for `wall` seconds (checked every 64 events),
+/// Runs `sim` without a log until `until` or for `wall` seconds ([`drive_within`]),
 /// whichever comes first; the time it reached, or `None` when it failed or `stop` was set.
 fn trial(
     sim: &mut impl Simulation,
@@ -155,21 +155,16 @@ fn trial(
     wall: f64,
     stop: Option<&AtomicBool>,
 ) -> Option<f64> {
-    let start = Instant::now();
-    loop {
-        for _ in 0..64 {
-            if !sim.step_to(until).ok()? {
-                sim.take_events();
-                return Some(until);
-            }
-        }
-        sim.take_events();
-        if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
-            return None;
-        }
-        if start.elapsed().as_secs_f64() >= wall {
-            return Some(sim.clock());
-        }
+    let mut discard = |_: &[ContactEvent]| ControlFlow::Continue(());
+    let mut dry = Stream {
+        sink: &mut discard,
+        stop,
+    };
+    let deadline = Instant::now() + Duration::from_secs_f64(wall);
+    match drive_within(sim, until, &mut dry, Some(deadline)) {
+        Ok(Reached::Time) => Some(until),
+        Ok(Reached::Deadline) => Some(sim.clock()),
+        _ => None,
     }
 }
 

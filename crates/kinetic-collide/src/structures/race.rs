@@ -352,11 +352,7 @@ impl Race {
             // A trial costs at least its run and the leader's rebuild: where those do not fit
             // what is left of the budget, its build is not even estimated (an estimate costs
             // a sample's build), unless it may pay back its build outside the budget.
-            let leader = self
-                .builds
-                .iter()
-                .find(|b| b.0 == self.leader)
-                .map_or(0.0, |b| b.1);
+            let leader = self.known_build(self.leader).unwrap_or(0.0);
             let paid_back = next == Structure::BruteForce && self.passing;
             if !paid_back && self.spent + run + leader > self.budget() {
                 self.untried.push(next);
@@ -403,13 +399,18 @@ impl Race {
         SHARE * self.pace * self.horizon
     }
 
+    /// What `structure`'s build costs, as measured or estimated so far.
+    fn known_build(&self, structure: Structure) -> Option<f64> {
+        self.builds.iter().find(|b| b.0 == structure).map(|b| b.1)
+    }
+
     /// What `structure`'s build costs: as measured where it was built, else as estimated.
     fn build_of(
         &mut self,
         structure: Structure,
         build_cost: &mut dyn FnMut(Structure) -> f64,
     ) -> f64 {
-        if let Some(&(_, b)) = self.builds.iter().find(|b| b.0 == structure) {
+        if let Some(b) = self.known_build(structure) {
             return b;
         }
         let b = build_cost(structure);

@@ -129,21 +129,14 @@ impl Structure {
         }
         let elastic = scene.response == Response::Elastic;
         let n = scene.objects.len();
-        let (boxes, cells, contacts) = Structure::boxes_work(scene);
+        let boxes = Structure::boxes_for(scene);
+        let cells = Structure::crossings_on(boxes, scene, scene_measures::crossings(scene));
+        let contacts = scene_measures::contacts(scene);
         let heavy = scene_measures::heavy_pairs(scene);
         if cost::brute_force_pays(n, cells, contacts, heavy, elastic) {
             return Structure::BruteForce;
         }
         boxes
-    }
-
-    /// The box structure the model picks for `scene` ([`Structure::boxes_for`]), and the
-    /// work it does there beyond its build (see [`Structure::crossings_on`]) and the contacts.
-    fn boxes_work(scene: &Scene) -> (Structure, f64, f64) {
-        let boxes = Structure::boxes_for(scene);
-        let crossings = scene_measures::crossings(scene);
-        let cells = Structure::crossings_on(boxes, scene, crossings);
-        (boxes, cells, scene_measures::contacts(scene))
     }
 
     /// The crossings a box structure pays for on `scene`, whose objects cross their own sizes
