@@ -2,7 +2,8 @@
 //! come in batches while the world runs, their sizes spread past the rule's bounds (for
 //! the default: the brute force for the first few dozen, then the loose grid, the grid, the
 //! sweep), new plans teleport objects and objects leave; the log must be the brute force's
-//! bit for bit, and the world and structure invariants hold after every event.
+//! bit for bit, and the world and structure invariants hold after every event. The default
+//! with its race (trials of other structures as the world is advanced) keeps the same log.
 
 use kinetic_collide::{FlightPlan, ObjectId, Response, Structure, Vec3, World, WorldKind};
 use rand::{Rng, SeedableRng};
@@ -35,10 +36,12 @@ fn random_ball(rng: &mut ChaCha8Rng, radius: f64, now: f64) -> (f64, FlightPlan)
 /// for elastic scenes, where the brute force stops paying).
 const BRUTE_FORCE_UP_TO: usize = 32;
 
-/// A world with the structure under test, by name ("auto": the default).
+/// A world with the structure under test, by name ("auto": the default's adaptive structure,
+/// without the race, whose trials depend on the clock).
 fn world_with(name: &str, kind: WorldKind) -> World {
     match name {
-        "auto" => World::new(kind),
+        "auto" => World::new(kind).without_racing(),
+        "raced" => World::new(kind),
         _ => {
             let s = Structure::from_name(name).expect("a structure of this test");
             World::with_structure(kind, Response::None, None, s).expect("a world")
@@ -152,6 +155,14 @@ fn auto_on_the_plane_matches_the_brute_force_bit_for_bit() {
 }
 
 #[test]
+fn the_raced_default_takes_batches_teleports_and_removals_bit_for_bit() {
+    for seed in 1..=2 {
+        scenario(seed, WorldKind::Free, "raced");
+        scenario(seed, WorldKind::Plane, "raced");
+    }
+}
+
+#[test]
 fn every_flight_structure_takes_teleports_and_spread_sizes_bit_for_bit() {
     for name in ["sweep", "grid", "loose-grid", "guards"] {
         for seed in 20..22 {
@@ -161,4 +172,42 @@ fn every_flight_structure_takes_teleports_and_spread_sizes_bit_for_bit() {
     for name in ["sweep", "grid", "loose-grid"] {
         scenario(30, WorldKind::Plane, name);
     }
+}
+
+/// `World::new` chooses by measuring: advanced call by call as a game would, it tries other
+/// structures on slices of its own time (each trial a hand-over and back, or a move to the
+/// faster), and its log is still that of a world on a named structure, bit for bit.
+#[test]
+fn the_default_world_races_and_keeps_the_log() {
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let mut raced = World::new(WorldKind::Free);
+    let mut named = world_with("grid", WorldKind::Free);
+    for k in 0..1500 {
+        // Dust of radii 0.05 to 2, and three giants.
+        let radius = if k % 500 == 0 {
+            8.0
+        } else {
+            0.05 * 40f64.powf(rng.random::<f64>())
+        };
+        let (r, plan) = random_ball(&mut rng, radius, 0.0);
+        raced.add_ball(r, plan).unwrap();
+        named.add_ball(r, plan).unwrap();
+    }
+    // Long enough for the trials' builds to fit a tenth of the run so far.
+    for step in 1..=800 {
+        let t = step as f64 * 0.05;
+        raced.advance_to(t).unwrap();
+        named.advance_to(t).unwrap();
+    }
+    raced.validate().unwrap();
+    let race = raced.race();
+    assert!(!race.is_empty());
+    assert_eq!(race[0].from, 0.0);
+    assert!(race.windows(2).all(|w| w[0].to == w[1].from), "{race:?}");
+    assert_eq!(race.last().unwrap().to, 40.0);
+    let tried: std::collections::BTreeSet<&str> = race.iter().map(|s| s.structure.name()).collect();
+    assert!(tried.len() >= 2, "nothing tried: {race:?}");
+    let (a, b) = (raced.drain_events(), named.drain_events());
+    assert!(a.len() > 1000, "{} events", a.len());
+    assert!(a == b, "the raced world's log differs from the grid's");
 }

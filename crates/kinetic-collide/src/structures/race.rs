@@ -44,7 +44,7 @@ pub(crate) const BRUTE_FORCE_START_MAX: usize = 1500;
 
 /// The brute force is never tried above this many objects: its pairs (4.5 million here)
 /// would take gigabytes before any measurement could stop them.
-const BRUTE_FORCE_TRIAL_MAX: usize = 3000;
+pub(crate) const BRUTE_FORCE_TRIAL_MAX: usize = 3000;
 
 /// The most objects in the sample [`pair_cost`] times.
 pub(crate) const PROBE_OBJECTS: usize = 64;
@@ -143,6 +143,26 @@ enum Phase {
     Settled,
 }
 
+/// The structures that may beat `pick` in a world of `objects` objects: the other box
+/// structures and the brute force (up to [`BRUTE_FORCE_TRIAL_MAX`] objects), the grid first
+/// (it holds any spread of sizes at a small cost per object). None for a hard-sphere
+/// simulator, which runs alone.
+fn shortlist(pick: Structure, objects: usize) -> Vec<Structure> {
+    if !pick.runs_in_a_world() {
+        return Vec::new();
+    }
+    [
+        Structure::Grid,
+        Structure::LooseGrid,
+        Structure::Sweep,
+        Structure::BruteForce,
+    ]
+    .into_iter()
+    .filter(|&s| s != pick)
+    .filter(|&s| s != Structure::BruteForce || objects <= BRUTE_FORCE_TRIAL_MAX)
+    .collect()
+}
+
 /// The race of one run.
 #[derive(Debug)]
 pub(crate) struct Race {
@@ -186,26 +206,46 @@ impl Race {
     /// structures that may beat it are the other box structures that run in its world and
     /// the brute force. An empty shortlist makes a run on `pick` alone.
     pub(crate) fn new(scene: &Scene, pick: Structure, build_seconds: f64) -> Race {
-        // The grid first: it holds any spread of sizes at a small cost per object.
-        let shortlist = [
-            Structure::Grid,
-            Structure::LooseGrid,
-            Structure::Sweep,
-            Structure::BruteForce,
-        ];
-        let passing = scene.response == Response::None;
         let to_try = if pick.runs_in_a_world() && scene.periodic.is_none() {
-            shortlist
+            shortlist(pick, scene.objects.len())
                 .into_iter()
-                .filter(|&s| s != pick && s.applies_to(scene))
-                .filter(|&s| {
-                    s != Structure::BruteForce || scene.objects.len() <= BRUTE_FORCE_TRIAL_MAX
-                })
+                .filter(|&s| s.applies_to(scene))
                 .collect()
         } else {
             Vec::new()
         };
         let horizon = scene.horizon;
+        let passing = scene.response == Response::None;
+        Race::with(
+            to_try,
+            horizon,
+            horizon * FIRST_SLICE,
+            passing,
+            pick,
+            build_seconds,
+        )
+    }
+
+    /// A race with no horizon, for a world advanced call by call: it starts on `pick` (the
+    /// world's adaptive structure, named by what it holds now) with a first slice of
+    /// `first_slice` units of simulated time, and weighs the other box structures and the
+    /// brute force as [`Race::new`] does. Its budget is [`SHARE`] of twice the run so far (at
+    /// the leader's pace: the world is taken to run at least as long again) where a run's is
+    /// a share of its horizon. The checks come at growing intervals, so what the trials cost
+    /// stays within twice that share of the whole run, however long.
+    pub(crate) fn open(pick: Structure, objects: usize, passing: bool, first_slice: f64) -> Race {
+        let to_try = shortlist(pick, objects);
+        Race::with(to_try, f64::INFINITY, first_slice, passing, pick, 0.0)
+    }
+
+    fn with(
+        to_try: Vec<Structure>,
+        horizon: f64,
+        slice: f64,
+        passing: bool,
+        pick: Structure,
+        build_seconds: f64,
+    ) -> Race {
         Race {
             horizon,
             phase: if to_try.is_empty() {
@@ -221,7 +261,7 @@ impl Race {
             paces: Vec::new(),
             measured_from: 0.0,
             measured_wall: 0.0,
-            slice: horizon * FIRST_SLICE,
+            slice,
             spent: 0.0,
             next_check: f64::INFINITY,
             build: build_seconds,
@@ -334,6 +374,13 @@ impl Race {
                 if let Some(&(runner_up, _)) = self.paces.iter().find(|p| p.0 != self.leader) {
                     self.to_try.push(runner_up);
                 }
+                if !self.horizon.is_finite() && self.pace > 0.0 && !self.to_try.is_empty() {
+                    // With no horizon the budget grows with the run: each trial's slice is
+                    // what half its share of the budget left runs at the abort pace (the
+                    // other half for builds), and at least a measurement's worth.
+                    let share = (self.budget() - self.spent).max(0.0) / self.to_try.len() as f64;
+                    self.slice = (share / (2.0 * ABORT * self.pace)).max(LEAST_WALL / self.pace);
+                }
                 self.next_trial(build_cost)
             }
         }
@@ -368,7 +415,7 @@ impl Race {
             // less the margin, it pays back its build, and is tried outside the budget. The
             // estimate counts twice: the probe's pairs stay in cache and a whole build's do
             // not (a build of 680,000 pairs took twice the probe's estimate).
-            let rest = self.pace * (self.horizon - now);
+            let rest = self.pace * self.ahead(now);
             if next == Structure::BruteForce
                 && self.passing
                 && 2.0 * build < (1.0 - MARGIN - self.contact_share) * rest
@@ -396,7 +443,29 @@ impl Race {
 
     /// What the trials may cost: a share of the run's time at the leader's pace.
     fn budget(&self) -> f64 {
-        SHARE * self.pace * self.horizon
+        SHARE * self.pace * self.projected()
+    }
+
+    /// The simulated time the run is projected to cover: its horizon, or with none twice
+    /// the run so far (a world is taken to run at least as long again as it has).
+    fn projected(&self) -> f64 {
+        if self.horizon.is_finite() {
+            self.horizon
+        } else {
+            match (self.slices.first(), self.slices.last()) {
+                (Some(first), Some(last)) => 2.0 * (last.to - first.from),
+                _ => 0.0,
+            }
+        }
+    }
+
+    /// The simulated time the run is projected to go on after `now`.
+    fn ahead(&self, now: f64) -> f64 {
+        if self.horizon.is_finite() {
+            self.horizon - now
+        } else {
+            self.projected() / 2.0
+        }
     }
 
     /// What `structure`'s build costs, as measured or estimated so far.
@@ -429,6 +498,11 @@ impl Race {
         self.build = build;
         self.builds.retain(|b| b.0 != self.current);
         self.builds.push((self.current, build));
+    }
+
+    /// The slices run so far, in order.
+    pub(crate) fn slices(&self) -> &[Slice] {
+        &self.slices
     }
 
     /// The slices run, in order.
@@ -527,6 +601,53 @@ mod tests {
             .sum();
         assert!(trials > 0.0, "nothing was tried: {slices:?}");
         assert!(trials < SHARE * grid * 100.0, "{trials} {slices:?}");
+    }
+
+    #[test]
+    fn an_open_race_ends_on_the_fastest_within_its_share_of_the_run_so_far() {
+        // A world of 2,000 objects advanced by 1/60 at a time, starting on the sweep.
+        let mut race = Race::open(Structure::Sweep, 2000, true, 1.0 / 60.0);
+        let mut now = 0.0;
+        for k in 1..=6000 {
+            let t = k as f64 / 60.0;
+            loop {
+                let planned = race.slice_end(now);
+                assert!(planned > now, "the race stalls at {now}");
+                if planned > t {
+                    // The slice goes on at the next call.
+                    break;
+                }
+                let wall = paces(race.current()) * (planned - now);
+                if race
+                    .slice_done(now, planned, wall, &mut |_| 0.001)
+                    .is_some()
+                {
+                    race.switched(0.001);
+                }
+                now = planned;
+            }
+        }
+        let all = race.into_slices();
+        // Most of the run on the grid, from early on.
+        let on = |s: Structure| -> f64 {
+            all.iter()
+                .filter(|x| x.structure == s)
+                .map(|x| x.to - x.from)
+                .sum()
+        };
+        let end = all.last().unwrap().to;
+        assert!(on(Structure::Grid) > 0.95 * end, "{all:?}");
+        // Left within the first 60 calls.
+        assert!(on(Structure::Sweep) < 1.0, "{all:?}");
+        assert!(all.windows(2).all(|w| w[0].to == w[1].from));
+        // What the race cost beyond the grid's pace: within twice the share of the grid's
+        // run (the budget is a share of twice the run so far).
+        let total: f64 = all.iter().map(|s| s.wall_seconds).sum();
+        let grid_alone = paces(Structure::Grid) * end;
+        assert!(
+            total < paces(Structure::Sweep) * end.min(1.0) + grid_alone * (1.0 + 2.0 * SHARE),
+            "{total} against {grid_alone}: {all:?}"
+        );
     }
 
     #[test]
