@@ -40,7 +40,7 @@ const ERROR_FLOOR: f64 = 1e-10;
 
 /// Every method the chart may show, each with a colour and a marker of its own (the
 /// kinetic structures first, then the time-stepped methods).
-const METHODS: [(&str, RGBColor, Marker); 14] = [
+const METHODS: [(&str, RGBColor, Marker); 17] = [
     ("rolling-tree", RGBColor(148, 103, 189), Marker::Circle),
     (
         "rolling-global-lists",
@@ -59,6 +59,9 @@ const METHODS: [(&str, RGBColor, Marker); 14] = [
     ("rapier", RGBColor(214, 39, 40), Marker::Square),
     ("rapier+ccd", RGBColor(255, 127, 14), Marker::Triangle),
     ("rapier+kinetic", RGBColor(44, 160, 44), Marker::Diamond),
+    ("avian", RGBColor(75, 0, 130), Marker::Square),
+    ("avian+ccd", RGBColor(128, 128, 0), Marker::Triangle),
+    ("avian+kinetic", RGBColor(0, 128, 128), Marker::Diamond),
 ];
 
 /// A point's shape.

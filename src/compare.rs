@@ -41,11 +41,21 @@ pub enum Method {
         /// Continuous collision detection on every body.
         ccd: bool,
     },
+    /// avian 0.8 stepped at `dt` on its own broad phase or the kinetic plugin, with
+    /// `SweptCcd` on every body or not (feature `avian`).
+    Avian {
+        /// The step.
+        dt: Real,
+        /// The kinetic plugin instead of avian's broad phase.
+        kinetic: bool,
+        /// `SweptCcd` on every body.
+        ccd: bool,
+    },
 }
 
 impl Method {
     /// The method's name in tables ("sweep", "stepped", "rapier", "rapier+ccd",
-    /// "rapier+kinetic").
+    /// "rapier+kinetic", "avian", "avian+ccd", "avian+kinetic").
     pub fn name(&self) -> &'static str {
         match self {
             Method::Kinetic(s) => s.name(),
@@ -70,6 +80,26 @@ impl Method {
                 ccd: true,
                 ..
             } => "rapier+kinetic+ccd",
+            Method::Avian {
+                kinetic: false,
+                ccd: false,
+                ..
+            } => "avian",
+            Method::Avian {
+                kinetic: false,
+                ccd: true,
+                ..
+            } => "avian+ccd",
+            Method::Avian {
+                kinetic: true,
+                ccd: false,
+                ..
+            } => "avian+kinetic",
+            Method::Avian {
+                kinetic: true,
+                ccd: true,
+                ..
+            } => "avian+kinetic+ccd",
         }
     }
 
@@ -77,7 +107,7 @@ impl Method {
     pub fn dt(&self) -> Option<Real> {
         match *self {
             Method::Kinetic(_) => None,
-            Method::Stepped(dt) | Method::Rapier { dt, .. } => Some(dt),
+            Method::Stepped(dt) | Method::Rapier { dt, .. } | Method::Avian { dt, .. } => Some(dt),
         }
     }
 
@@ -94,7 +124,8 @@ impl Method {
 
     /// Every method that applies to `scene`: its kinetic structures and the brute force;
     /// and, when objects pass through each other (response `"none"`, so every method follows
-    /// the same motion), time-stepped detection and rapier at each of [`STEPS`].
+    /// the same motion), time-stepped detection, rapier and (feature `avian`) avian at each
+    /// of [`STEPS`].
     pub fn applicable(scene: &Scene) -> Vec<Method> {
         let mut methods: Vec<Method> = Structure::ALL
             .into_iter()
@@ -110,6 +141,11 @@ impl Method {
                     (Broad::Kinetic, false),
                 ] {
                     methods.push(Method::Rapier { dt, broad, ccd });
+                }
+                if cfg!(feature = "avian") {
+                    for (kinetic, ccd) in [(false, false), (false, true), (true, false)] {
+                        methods.push(Method::Avian { dt, kinetic, ccd });
+                    }
                 }
             }
         }
@@ -336,6 +372,19 @@ fn run_method(scene: &Scene, method: Method) -> (Vec<ContactEvent>, Real, Option
             Ok(out) => (out.events, out.wall_seconds, None),
             Err(e) => (Vec::new(), 0.0, Some(e.to_string())),
         },
+        #[cfg(feature = "avian")]
+        Method::Avian { dt, kinetic, ccd } => {
+            match crate::avian_run::run_avian(scene, dt, kinetic, ccd) {
+                Ok(out) => (out.events, out.wall_seconds, None),
+                Err(e) => (Vec::new(), 0.0, Some(e.to_string())),
+            }
+        }
+        #[cfg(not(feature = "avian"))]
+        Method::Avian { .. } => (
+            Vec::new(),
+            0.0,
+            Some("avian: built without the `avian` feature".to_string()),
+        ),
     }
 }
 

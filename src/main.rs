@@ -68,7 +68,7 @@ enum Command {
         overlay: String,
     },
     /// Run scenes with every applicable method (kinetic structures, time-stepped detection,
-    /// rapier with and without CCD and with the kinetic broad phase) and score each against
+    /// rapier and avian with and without CCD and with the kinetic broad phase) and score each against
     /// the exact log: wall time, contacts missed, contact-time error, false contacts. Prints a
     /// Markdown table and writes compare.csv and compare.png.
     Compare {
@@ -430,8 +430,8 @@ fn compare(args: &[String], out: &Path) -> Result<(), Failure> {
     for scene in &scenes {
         if scene.scene.response != kinetic_collide::Response::None {
             eprintln!(
-                "{}: elastic response, so only the kinetic structures run (time-stepped and \
-                 rapier runs would follow other motions and could not be scored contact by contact)",
+                "{}: elastic response, so only the kinetic structures run (time-stepped, rapier \
+                 and avian runs would follow other motions and could not be scored contact by contact)",
                 scene.name
             );
         }

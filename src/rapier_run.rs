@@ -26,9 +26,9 @@ pub enum Broad {
     Kinetic,
 }
 
-/// What a rapier run found.
+/// What an engine's run found (rapier's here, avian's in `avian_run`).
 #[derive(Clone, Debug)]
-pub struct RapierOutput {
+pub struct EngineOutput {
     /// Contact begins and ends at step times, in log order.
     pub events: Vec<ContactEvent>,
     /// Steps taken.
@@ -37,13 +37,13 @@ pub struct RapierOutput {
     pub wall_seconds: f64,
 }
 
-/// Why rapier could not take the scene.
+/// Why the engine could not take the scene.
 #[derive(Debug, thiserror::Error)]
 #[error("objects[{index}]: {message}")]
-pub struct RapierError {
+pub struct EngineError {
     /// The object at fault.
     pub index: usize,
-    /// What rapier refused.
+    /// What the engine refused.
     pub message: String,
 }
 
@@ -53,7 +53,7 @@ pub fn run_rapier(
     dt: Real,
     broad: Broad,
     ccd: bool,
-) -> Result<RapierOutput, RapierError> {
+) -> Result<EngineOutput, EngineError> {
     let start = Instant::now();
     let mut bodies = RigidBodySet::new();
     let mut colliders = ColliderSet::new();
@@ -86,7 +86,7 @@ pub fn run_rapier(
                     .iter()
                     .map(|p| point![p.x as f32, p.y as f32, p.z as f32])
                     .collect();
-                ColliderBuilder::convex_hull(&pts).ok_or_else(|| RapierError {
+                ColliderBuilder::convex_hull(&pts).ok_or_else(|| EngineError {
                     index,
                     message: "rapier cannot build this convex hull in f32".into(),
                 })?
@@ -176,7 +176,7 @@ pub fn run_rapier(
         log_changes(&touching, &now_touching, t, &mut events);
         std::mem::swap(&mut touching, &mut now_touching);
     }
-    Ok(RapierOutput {
+    Ok(EngineOutput {
         events,
         steps,
         wall_seconds: start.elapsed().as_secs_f64(),
