@@ -177,7 +177,16 @@ impl Engine for AvianWorld<'_, '_> {
             Some((body, (_, bpos, brot, com, ..))) => {
                 let centre = dvec!(bpos.0) + dvec!(brot.0 * com.0);
                 let sphere = collider.shape_scaled().compute_local_bounding_sphere();
-                let offset = dvec!(rot.0 * sphere.center());
+                // In the core's f64: the shape's centre is parry's (f32 or f64), the rotation
+                // avian's.
+                let q = rot.0;
+                let q = kinetic_core::Quat::from_xyzw(
+                    q.x as Real,
+                    q.y as Real,
+                    q.z as Real,
+                    q.w as Real,
+                );
+                let offset = q * dvec!(sphere.center());
                 let reach = (dvec!(pos.0) + offset - centre).length() + sphere.radius() as Real;
                 let slack = Slack {
                     min: slack.min * self.length_unit.0 as Real,

@@ -138,8 +138,8 @@ fn a_rain_onto_the_ground_misses_no_pair_within_reach() {
         let lowest = q
             .iter(ours.world())
             .filter(|(_, rb)| rb.is_dynamic())
-            .map(|(p, _)| p.0.y)
-            .fold(f32::INFINITY, f32::min);
+            .map(|(p, _)| p.0.y as f64)
+            .fold(f64::INFINITY, f64::min);
         assert!(lowest > 0.1, "a body at {lowest}");
         let (name, stats) = (kinetic(&ours).structure_name(), kinetic(&ours).stats());
         if broad == Broad::Kinetic {

@@ -1,8 +1,14 @@
 //! The engine scenes ([`crate::engines`]) in avian3d (feature `avian`).
 
 use crate::engines::{EngineScene, PieceShape, hull_points, terrain_mesh};
+use avian3d::math::RVector;
 use avian3d::prelude::*;
 use bevy::prelude::*;
+
+/// A point of a shape in avian's precision (f32, or f64 with `parry-f64`).
+fn point([x, y, z]: [f32; 3]) -> RVector {
+    RVector::new(x as _, y as _, z as _)
+}
 
 /// Spawns `scene`'s pieces into `world` (one entity each: a body with its collider) and sets
 /// avian's gravity; returns the entities in the scene's order. Pieces that start asleep are
@@ -18,7 +24,7 @@ pub fn spawn(scene: &EngineScene, world: &mut World) -> Vec<Entity> {
                 PieceShape::Ball(r) => Collider::sphere(r),
                 PieceShape::Cuboid([x, y, z]) => Collider::cuboid(2.0 * x, 2.0 * y, 2.0 * z),
                 PieceShape::Hull(r) => {
-                    let points: Vec<Vec3> = hull_points(r).into_iter().map(Vec3::from).collect();
+                    let points: Vec<RVector> = hull_points(r).into_iter().map(point).collect();
                     Collider::convex_hull(&points).expect("an icosahedron's hull")
                 }
                 PieceShape::Terrain {
@@ -27,7 +33,7 @@ pub fn spawn(scene: &EngineScene, world: &mut World) -> Vec<Entity> {
                     height,
                 } => {
                     let (vertices, triangles) = terrain_mesh(half, cells, height);
-                    Collider::trimesh(vertices.into_iter().map(Vec3::from).collect(), triangles)
+                    Collider::trimesh(vertices.into_iter().map(point).collect(), triangles)
                 }
             };
             let at = Transform::from_translation(Vec3::from(p.position));

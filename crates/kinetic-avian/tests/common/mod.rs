@@ -104,8 +104,10 @@ pub fn ground(app: &mut App) -> Entity {
     )
 }
 
+/// A body's position, in f32 whatever avian's precision.
 pub fn position(app: &App, e: Entity) -> Vec3 {
-    app.world().get::<Position>(e).expect("a body").0
+    let p = app.world().get::<Position>(e).expect("a body").0;
+    Vec3::new(p.x as f32, p.y as f32, p.z as f32)
 }
 
 /// The kinetic broad phase's audit failure, if any.
