@@ -12,7 +12,7 @@ use kinetic_core::{ContactEvent, ContactKind, Shape, Stats, WorldError};
 use kinetic_flight::ConvexShape;
 use kinetic_spheres::{ElasticCells, ListedSpheres};
 pub use spheres::{BLOCKS, MeasuredBulk};
-use spheres::{faster_in_walls, run_cells, run_listed, run_periodic};
+use spheres::{InWalls, faster_in_walls, run_cells, run_listed, run_periodic};
 use std::cell::RefCell;
 use std::fmt::Write as _;
 use std::ops::ControlFlow;
@@ -443,17 +443,30 @@ pub fn run_scene_streamed(
     if matches!(chosen, Structure::Cells | Structure::Lists) {
         if times.is_empty() {
             // Without a name, the two that hold balls in walls are measured.
-            let (chosen, trials, built) = match structure {
+            let (chosen, trials) = match structure {
                 None if chosen == Structure::Lists => faster_in_walls(scene, stream.stop),
-                _ => (chosen, Vec::new(), None),
+                _ if chosen == Structure::Cells => (InWalls::Cells(None), Vec::new()),
+                _ => (InWalls::Lists(None), Vec::new()),
             };
-            let mut output = if chosen == Structure::Cells {
-                run_cells(scene, start, stream)
-            } else {
-                run_listed(scene, start, stream, built)
-            }?;
+            let (chosen, mut output) = match chosen {
+                InWalls::Cells(tried) => {
+                    (Structure::Cells, run_cells(scene, start, stream, tried)?)
+                }
+                InWalls::Lists(tried) => {
+                    (Structure::Lists, run_listed(scene, start, stream, tried)?)
+                }
+            };
             if !trials.is_empty() {
-                let tried: f64 = trials.iter().map(|t| t.wall_seconds).sum();
+                // The winner went on from its trial.
+                let (tried, from) = trials
+                    .iter()
+                    .map(|t| {
+                        (
+                            t.wall_seconds,
+                            if t.structure == chosen { t.to } else { 0.0 },
+                        )
+                    })
+                    .fold((0.0, 0.0), |(w, f), (tw, tf)| (w + tw, f64::max(f, tf)));
                 let to = output
                     .interrupted
                     .as_ref()
@@ -461,7 +474,7 @@ pub fn run_scene_streamed(
                 output.race = trials;
                 output.race.push(Slice {
                     structure: chosen,
-                    from: 0.0,
+                    from,
                     to,
                     wall_seconds: output.wall_seconds - tried,
                     build_seconds: 0.0,

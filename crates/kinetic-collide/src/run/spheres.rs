@@ -52,8 +52,7 @@ fn whole_run(
     }
 }
 
-/// The share of the horizon the trials in walls run ([`faster_in_walls`]): together at most
-/// about three times this share of the run, as projected, besides the builds. Shorter
+/// The share of the horizon the trials in walls run at least ([`faster_in_walls`]): shorter
 /// trials measure the lists before their shells are first crossed, which at packings of 1%
 /// makes them look faster than they are.
 const WALLS_TRIAL_SHARE: f64 = 1.0 / 64.0;
@@ -67,27 +66,37 @@ const WALLS_TRIAL_WALL: f64 = 0.1;
 /// runs, whose builds cost most of them).
 const WALLS_TRIAL_BUDGET: f64 = 0.1;
 
+/// A hard-sphere simulator in walls that ran a trial from the start of the run, and the
+/// events it found, held for the log.
+pub(super) struct Tried<S> {
+    pub(super) sim: S,
+    pub(super) events: Vec<ContactEvent>,
+}
+
+/// Which structure runs elastic balls in walls, and the trial that won, to go on from.
+pub(super) enum InWalls {
+    Lists(Option<Tried<ListedSpheres>>),
+    Cells(Option<Tried<ElasticCells>>),
+}
+
 /// Elastic balls in walls that the neighbour lists and the cell grid both hold (sizes within a
 /// factor of two): which of the two runs `scene` faster, measured, and the two trials as
 /// slices. The lists spend the least per collision where the spheres crowd; where they are
 /// sparse, a sphere's shell holds few neighbours and it crosses it often, and the cell grid
 /// can be twice as fast (measured: 125 and 251 spheres at packings 0.024 and 0.010).
 ///
-/// Each trial runs from the start of the run without a log: the lists over
-/// [`WALLS_TRIAL_SHARE`] of the horizon (at most [`WALLS_TRIAL_WALL`] seconds), then, where
-/// that costs at most [`WALLS_TRIAL_BUDGET`] of the lists' projected run, the cell grid to the
-/// same time, stopped once its run has taken as long as the lists'. Each projects its whole
-/// run, its build and its pace over the horizon. The lists' trial runs a copy, so that the
-/// lists, where they win, start from the one built; the cell grid, where it wins, is built
-/// afresh (every structure gives the same log). A trial that fails, or a `stop` set meanwhile,
-/// leaves the lists. Returns the structure, the trials and the lists as built where they
-/// won.
-pub(super) fn faster_in_walls(
-    scene: &Scene,
-    stop: Option<&AtomicBool>,
-) -> (Structure, Vec<Slice>, Option<ListedSpheres>) {
+/// Each trial runs from the start of the run, its events held: the lists over
+/// [`WALLS_TRIAL_SHARE`] of the horizon, and on until they have run as long as their build
+/// took (a run much shorter than its build could not pay back another), within the first of
+/// the bulk figures' [`BLOCKS`] and [`WALLS_TRIAL_WALL`] seconds, then, where that costs at most [`WALLS_TRIAL_BUDGET`] of the lists'
+/// projected run, the cell grid to the same time, stopped once its run has taken as long as
+/// the lists'. Each projects its whole run, its build and its pace over the horizon. The
+/// winner goes on from where its trial stopped, its held events first in the log (every
+/// structure gives the same log), so a trial costs only the loser's. A trial that fails, or a
+/// `stop` set meanwhile, leaves the lists, built afresh.
+pub(super) fn faster_in_walls(scene: &Scene, stop: Option<&AtomicBool>) -> (InWalls, Vec<Slice>) {
     let (Some((walls, balls)), Some(_)) = (listed_balls(scene), cell_balls(scene)) else {
-        return (Structure::Lists, Vec::new(), None);
+        return (InWalls::Lists(None), Vec::new());
     };
     let horizon = scene.horizon;
     let slice = |structure, to: f64, wall: f64, build: f64| Slice {
@@ -98,37 +107,43 @@ pub(super) fn faster_in_walls(
         build_seconds: build,
     };
     let built = Instant::now();
-    let Ok(built_gas) = ListedSpheres::in_walls(walls, &balls) else {
-        return (Structure::Lists, Vec::new(), None);
+    let Ok(mut gas) = ListedSpheres::in_walls(walls, &balls) else {
+        return (InWalls::Lists(None), Vec::new());
     };
     let lists_build = built.elapsed().as_secs_f64();
-    let mut gas = built_gas.clone();
     let run = Instant::now();
-    let Some(to) = trial(
-        &mut gas,
-        horizon * WALLS_TRIAL_SHARE,
-        WALLS_TRIAL_WALL,
-        stop,
-    ) else {
-        return (Structure::Lists, Vec::new(), Some(built_gas));
+    let least = horizon * WALLS_TRIAL_SHARE;
+    // Within the bulk figures' first block, which the winner's run goes on summing.
+    let first_block = horizon / BLOCKS as f64;
+    let mut events = Vec::new();
+    let Some(mut to) = trial(&mut gas, least, WALLS_TRIAL_WALL, stop, &mut events) else {
+        return (InWalls::Lists(None), Vec::new());
     };
+    let wall = run.elapsed().as_secs_f64();
+    if to >= least && wall < lists_build.min(WALLS_TRIAL_WALL) {
+        match trial(&mut gas, first_block, lists_build - wall, stop, &mut events) {
+            Some(reached) => to = reached,
+            None => return (InWalls::Lists(None), Vec::new()),
+        }
+    }
     let lists_wall = run.elapsed().as_secs_f64();
-    drop(gas);
+    let lists = Tried { sim: gas, events };
     let mut trials = vec![slice(Structure::Lists, to, lists_wall, lists_build)];
     // The cell grid's build is about half the lists' (measured at 125 to 32,000 spheres).
     let lists_run = lists_build + lists_wall / to.max(f64::MIN_POSITIVE) * horizon;
     if 0.5 * lists_build + lists_wall > WALLS_TRIAL_BUDGET * lists_run {
-        return (Structure::Lists, trials, Some(built_gas));
+        return (InWalls::Lists(Some(lists)), trials);
     }
     let built = Instant::now();
     let Ok(mut cells) = ElasticCells::new(walls, &balls) else {
-        return (Structure::Lists, trials, Some(built_gas));
+        return (InWalls::Lists(Some(lists)), trials);
     };
     let cells_build = built.elapsed().as_secs_f64();
     let run = Instant::now();
+    let mut events = Vec::new();
     // Slower over the same span than the lists, the cell grid has lost.
-    let Some(reached) = trial(&mut cells, to, lists_wall, stop) else {
-        return (Structure::Lists, trials, Some(built_gas));
+    let Some(reached) = trial(&mut cells, to, lists_wall, stop, &mut events) else {
+        return (InWalls::Lists(Some(lists)), trials);
     };
     trials.push(slice(
         Structure::Cells,
@@ -141,39 +156,54 @@ pub(super) fn faster_in_walls(
         t.build_seconds + pace * horizon
     };
     if projected(&trials[1]) < projected(&trials[0]) {
-        (Structure::Cells, trials, None)
+        (InWalls::Cells(Some(Tried { sim: cells, events })), trials)
     } else {
-        (Structure::Lists, trials, Some(built_gas))
+        (InWalls::Lists(Some(lists)), trials)
     }
 }
 
-/// Runs `sim` without a log until `until` or for `wall` seconds ([`drive_within`]),
-/// whichever comes first; the time it reached, or `None` when it failed or `stop` was set.
+/// Runs `sim` until `until` or for `wall` seconds ([`drive_within`]), whichever comes first,
+/// its events added to `events`; the time it reached, or `None` when it failed or `stop` was
+/// set.
 fn trial(
     sim: &mut impl Simulation,
     until: f64,
     wall: f64,
     stop: Option<&AtomicBool>,
+    events: &mut Vec<ContactEvent>,
 ) -> Option<f64> {
-    let mut discard = |_: &[ContactEvent]| ControlFlow::Continue(());
-    let mut dry = Stream {
-        sink: &mut discard,
+    let mut hold = |batch: &[ContactEvent]| {
+        events.extend_from_slice(batch);
+        ControlFlow::Continue(())
+    };
+    let mut held = Stream {
+        sink: &mut hold,
         stop,
     };
     let deadline = Instant::now() + Duration::from_secs_f64(wall);
-    match drive_within(sim, until, &mut dry, Some(deadline)) {
+    match drive_within(sim, until, &mut held, Some(deadline)) {
         Ok(Reached::Time) => Some(until),
         Ok(Reached::Deadline) => Some(sim.clock()),
         _ => None,
     }
 }
 
-/// Runs a scene on the cell grid, with the bulk figures of the whole run (the pressure is
-/// that on the walls).
+/// Hands the events a trial held to the log (they end at an instant: a trial pauses between
+/// two); `Break` when the sink stops the run.
+fn held_events(events: &[ContactEvent], stream: &mut Stream<'_>) -> ControlFlow<String> {
+    if events.is_empty() {
+        return ControlFlow::Continue(());
+    }
+    (stream.sink)(events)
+}
+
+/// Runs a scene on the cell grid (going on from `tried`, when given, the grid of a trial from
+/// the start), with the bulk figures of the whole run (the pressure is that on the walls).
 pub(super) fn run_cells(
     scene: &Scene,
     start: Instant,
     stream: &mut Stream<'_>,
+    tried: Option<Tried<ElasticCells>>,
 ) -> Result<RunOutput, RunError> {
     let (walls, balls) = cell_balls(scene).ok_or_else(|| {
         RunError::Input(
@@ -182,9 +212,15 @@ pub(super) fn run_cells(
                 .to_string(),
         )
     })?;
-    let mut cells =
-        ElasticCells::new(walls, &balls).map_err(|e| RunError::Input(format!("objects: {e}")))?;
-    let (result, measured) = measure(&mut cells, scene.horizon, 0.0, stream);
+    let (mut cells, held) = match tried {
+        Some(Tried { sim, events }) => (sim, events),
+        None => (
+            ElasticCells::new(walls, &balls)
+                .map_err(|e| RunError::Input(format!("objects: {e}")))?,
+            Vec::new(),
+        ),
+    };
+    let (result, measured) = go_on(&mut cells, &held, scene.horizon, stream);
     let output = whole_run(
         scene,
         Structure::Cells,
@@ -195,14 +231,14 @@ pub(super) fn run_cells(
     output.finish(result, cells.now())
 }
 
-/// Runs a scene of elastic balls of similar sizes in walls on neighbour lists (`built`, when
-/// given, is that scene's lists, built and not yet run), with the bulk figures of the whole
-/// run (the pressure is that on the walls).
+/// Runs a scene of elastic balls of similar sizes in walls on neighbour lists (going on from
+/// `tried`, when given, the lists of a trial from the start), with the bulk figures of the
+/// whole run (the pressure is that on the walls).
 pub(super) fn run_listed(
     scene: &Scene,
     start: Instant,
     stream: &mut Stream<'_>,
-    built: Option<ListedSpheres>,
+    tried: Option<Tried<ListedSpheres>>,
 ) -> Result<RunOutput, RunError> {
     let (walls, balls) = listed_balls(scene).ok_or_else(|| {
         RunError::Input(
@@ -211,12 +247,15 @@ pub(super) fn run_listed(
                 .to_string(),
         )
     })?;
-    let mut gas = match built {
-        Some(gas) => gas,
-        None => ListedSpheres::in_walls(walls, &balls)
-            .map_err(|e| RunError::Input(format!("objects: {e}")))?,
+    let (mut gas, held) = match tried {
+        Some(Tried { sim, events }) => (sim, events),
+        None => (
+            ListedSpheres::in_walls(walls, &balls)
+                .map_err(|e| RunError::Input(format!("objects: {e}")))?,
+            Vec::new(),
+        ),
     };
-    let (result, measured) = measure(&mut gas, scene.horizon, 0.0, stream);
+    let (result, measured) = go_on(&mut gas, &held, scene.horizon, stream);
     let output = whole_run(
         scene,
         Structure::Lists,
@@ -284,6 +323,20 @@ impl Measured for ElasticCells {
     }
 }
 
+/// [`measure`] over the whole run for a simulator in walls that may have run a trial from
+/// the start: the events it held go to the log first.
+fn go_on(
+    gas: &mut impl Measured,
+    held: &[ContactEvent],
+    horizon: f64,
+    stream: &mut Stream<'_>,
+) -> (Result<Reached, WorldError>, Option<MeasuredBulk>) {
+    if let ControlFlow::Break(reason) = held_events(held, stream) {
+        return (Ok(Reached::Stopped(reason)), None);
+    }
+    measure(gas, horizon, 0.0, stream)
+}
+
 /// Drives `gas` to `horizon`, its bulk figures taken afresh at `from` and over each of
 /// [`BLOCKS`] equal blocks from there; `None` for the figures when the run stopped first.
 fn measure(
@@ -300,7 +353,11 @@ fn measure(
     }
     let mut blocks = Vec::with_capacity(BLOCKS);
     for k in 1..=BLOCKS {
-        gas.reset_bulk();
+        // From the start, the first block's figures are those summed since it (a trial's
+        // included).
+        if k > 1 || from > 0.0 {
+            gas.reset_bulk();
+        }
         let end = if k == BLOCKS {
             horizon
         } else {
