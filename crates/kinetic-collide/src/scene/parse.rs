@@ -195,9 +195,13 @@ impl<'de> Visitor<'de> for ObjectsVisitor {
         let mut bad = None;
         while let Some(value) = seq.next_element::<Value>()? {
             if bad.is_none() {
-                match parse_object(&value, &format!("objects[{}]", list.len())) {
+                // The path is written only for an object at fault: parsed again with it.
+                match parse_object(&value, "") {
                     Ok(obj) => list.push(obj),
-                    Err(e) => bad = Some(e),
+                    Err(e) => {
+                        let path = format!("objects[{}]", list.len());
+                        bad = Some(parse_object(&value, &path).err().unwrap_or(e));
+                    }
                 }
             }
         }
