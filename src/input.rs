@@ -53,7 +53,13 @@ pub fn read_scene_text(mut reader: impl Read) -> Result<String, InputError> {
         // (a scene of 32,000 spheres is 10 MB).
         let control = |b: u8| b < 0x20 && !matches!(b, b'\t' | b'\n' | b'\r');
         let checked = if opened {
-            chunk[..got].iter().position(|&b| control(b)).unwrap_or(got)
+            // A pass without a branch a byte, then the byte itself where there is one.
+            let any = chunk[..got].iter().fold(false, |any, &b| any | control(b));
+            if any {
+                chunk[..got].iter().position(|&b| control(b)).unwrap_or(got)
+            } else {
+                got
+            }
         } else {
             0
         };
