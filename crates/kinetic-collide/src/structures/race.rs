@@ -331,25 +331,24 @@ impl Race {
         }
         match self.phase {
             Phase::Pace => {
-                // The leader's pace is measured on doubling slices until two in a row agree
-                // (its first milliseconds, cold caches and a queue still growing, can run at
-                // half its pace), or it has run as long as its build took (a structure whose
-                // work comes in bursts); each slice takes LEAST_WALL at least.
+                // The leader's pace is measured on doubling slices, over LEAST_WALL at least,
+                // until two in a row agree (its first milliseconds, cold caches and a queue
+                // still growing, can run at half its pace), or it has run as long as its
+                // build took (a structure whose work comes in bursts).
                 let pace = wall / (to - from).max(f64::MIN_POSITIVE);
                 let last = std::mem::replace(&mut self.last_pace, pace);
                 let steady = (pace - last).abs() <= STEADY * last;
                 let built = self.known_build(self.leader).unwrap_or(0.0);
-                if wall < LEAST_WALL || !(steady || self.measured_wall >= built) {
-                    if wall >= LEAST_WALL {
-                        self.last_pace = pace;
-                    } else {
-                        self.last_pace = f64::NAN;
-                    }
+                if self.measured_wall < LEAST_WALL || !(steady || self.measured_wall >= built) {
                     self.slice *= 2.0;
                     return None;
                 }
-                // The latest slice's pace, warm.
-                self.pace = pace;
+                // Steady, the latest slice's pace (warm); else the pace over all of them.
+                self.pace = if steady {
+                    pace
+                } else {
+                    self.measured_wall / span
+                };
                 // A trial slice is as long as the leader took LEAST_WALL to run, or longer
                 // when the budget allows: four times as long as measured, a share of each
                 // trial's budget.
