@@ -121,7 +121,13 @@ pub(super) fn faster_in_walls(scene: &Scene, stop: Option<&AtomicBool>) -> (InWa
     };
     let wall = run.elapsed().as_secs_f64();
     if to >= least && wall < lists_build.min(WALLS_TRIAL_WALL) {
-        match trial(&mut gas, first_block, lists_build - wall, stop, &mut events) {
+        match trial(
+            &mut gas,
+            first_block,
+            lists_build.min(WALLS_TRIAL_WALL) - wall,
+            stop,
+            &mut events,
+        ) {
             Some(reached) => to = reached,
             None => return (InWalls::Lists(None), Vec::new()),
         }
