@@ -83,7 +83,7 @@ pub fn read_scene_text(mut reader: impl Read) -> Result<String, InputError> {
                 }
                 opened = true;
             }
-            if byte < 0x20 && !space {
+            if control(byte) {
                 return Err(InputError::NotAScene {
                     byte,
                     offset,

@@ -458,15 +458,12 @@ pub fn run_scene_streamed(
             };
             if !trials.is_empty() {
                 // The winner went on from its trial.
-                let (tried, from) = trials
+                let tried: f64 = trials.iter().map(|t| t.wall_seconds).sum();
+                let from = trials
                     .iter()
-                    .map(|t| {
-                        (
-                            t.wall_seconds,
-                            if t.structure == chosen { t.to } else { 0.0 },
-                        )
-                    })
-                    .fold((0.0, 0.0), |(w, f), (tw, tf)| (w + tw, f64::max(f, tf)));
+                    .filter(|t| t.structure == chosen)
+                    .map(|t| t.to)
+                    .fold(0.0, f64::max);
                 let to = output
                     .interrupted
                     .as_ref()

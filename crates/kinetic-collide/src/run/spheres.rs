@@ -73,6 +73,22 @@ pub(super) struct Tried<S> {
     pub(super) events: Vec<ContactEvent>,
 }
 
+impl<S> Tried<S> {
+    /// `tried`, or a simulator built afresh with no events held.
+    fn or_fresh(
+        tried: Option<Tried<S>>,
+        build: impl FnOnce() -> Result<S, RunError>,
+    ) -> Result<Tried<S>, RunError> {
+        match tried {
+            Some(tried) => Ok(tried),
+            None => Ok(Tried {
+                sim: build()?,
+                events: Vec::new(),
+            }),
+        }
+    }
+}
+
 /// Which structure runs elastic balls in walls, and the trial that won, to go on from.
 pub(super) enum InWalls {
     Lists(Option<Tried<ListedSpheres>>),
@@ -194,15 +210,6 @@ fn trial(
     }
 }
 
-/// Hands the events a trial held to the log (they end at an instant: a trial pauses between
-/// two); `Break` when the sink stops the run.
-fn held_events(events: &[ContactEvent], stream: &mut Stream<'_>) -> ControlFlow<String> {
-    if events.is_empty() {
-        return ControlFlow::Continue(());
-    }
-    (stream.sink)(events)
-}
-
 /// Runs a scene on the cell grid (going on from `tried`, when given, the grid of a trial from
 /// the start), with the bulk figures of the whole run (the pressure is that on the walls).
 pub(super) fn run_cells(
@@ -218,14 +225,12 @@ pub(super) fn run_cells(
                 .to_string(),
         )
     })?;
-    let (mut cells, held) = match tried {
-        Some(Tried { sim, events }) => (sim, events),
-        None => (
-            ElasticCells::new(walls, &balls)
-                .map_err(|e| RunError::Input(format!("objects: {e}")))?,
-            Vec::new(),
-        ),
-    };
+    let Tried {
+        sim: mut cells,
+        events: held,
+    } = Tried::or_fresh(tried, || {
+        ElasticCells::new(walls, &balls).map_err(|e| RunError::Input(format!("objects: {e}")))
+    })?;
     let (result, measured) = go_on(&mut cells, &held, scene.horizon, stream);
     let output = whole_run(
         scene,
@@ -253,14 +258,12 @@ pub(super) fn run_listed(
                 .to_string(),
         )
     })?;
-    let (mut gas, held) = match tried {
-        Some(Tried { sim, events }) => (sim, events),
-        None => (
-            ListedSpheres::in_walls(walls, &balls)
-                .map_err(|e| RunError::Input(format!("objects: {e}")))?,
-            Vec::new(),
-        ),
-    };
+    let Tried {
+        sim: mut gas,
+        events: held,
+    } = Tried::or_fresh(tried, || {
+        ListedSpheres::in_walls(walls, &balls).map_err(|e| RunError::Input(format!("objects: {e}")))
+    })?;
     let (result, measured) = go_on(&mut gas, &held, scene.horizon, stream);
     let output = whole_run(
         scene,
@@ -337,7 +340,10 @@ fn go_on(
     horizon: f64,
     stream: &mut Stream<'_>,
 ) -> (Result<Reached, WorldError>, Option<MeasuredBulk>) {
-    if let ControlFlow::Break(reason) = held_events(held, stream) {
+    // They end at an instant: a trial pauses between two.
+    if !held.is_empty()
+        && let ControlFlow::Break(reason) = (stream.sink)(held)
+    {
         return (Ok(Reached::Stopped(reason)), None);
     }
     measure(gas, horizon, 0.0, stream)

@@ -35,8 +35,8 @@ const LEAST_WALL: f64 = 0.001;
 /// Two slices' paces within this share of each other are the structure's steady pace.
 const STEADY: f64 = 0.25;
 
-/// The share of the horizon the first slice covers; slices double until one takes
-/// [`LEAST_WALL`].
+/// The share of the horizon the first slice covers; slices double until the leader's pace is
+/// measured.
 const FIRST_SLICE: f64 = 1.0 / 4096.0;
 
 /// Above this many objects a run does not start on the brute force to measure it (its build
@@ -361,11 +361,11 @@ impl Race {
                 // A trial is measured over LEAST_WALL at least: a structure whose work comes
                 // in bursts (the grids re-file each object after its least flight) may do
                 // nothing on a short slice after its build.
-                if span >= self.slice * (1.0 - 1e-9) && self.measured_wall < LEAST_WALL {
+                let done = span >= self.slice * (1.0 - 1e-9);
+                if done && self.measured_wall < LEAST_WALL {
                     self.slice *= 2.0;
                     return None;
                 }
-                let done = span >= self.slice * (1.0 - 1e-9);
                 if !done && pace <= ABORT * self.pace {
                     return None;
                 }
