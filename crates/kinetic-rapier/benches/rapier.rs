@@ -15,7 +15,10 @@
 //! `-- --space K [--from F] [--steps S] [--repeat R]` runs draws F to F + K - 1 of the engine
 //! scene space (`kinetic_scenes::engines::space`) instead (default S = 60, R = 3), each side
 //! R times interleaved, and writes each draw's ratios and the worst and median over the draws
-//! as the `rapier` rows of `docs/results/engines.csv` (or `--csv PATH`).
+//! as the `rapier` rows of `docs/results/engines.csv` (or `--csv PATH`). Each draw also runs
+//! rapier's own broad phase a second time with the pairs of each update handed over in
+//! reverse order (interleaved with the others): its step over the own step is how far the
+//! step moves with the order of the pairs alone, the step ratio's reference.
 
 use kinetic_rapier::KineticBroadPhase;
 use kinetic_scenes::engines::results::{self, DrawRow};
@@ -92,6 +95,28 @@ fn run(scene: RapierScene, bp: &mut dyn BroadPhase, steps: usize, split: usize) 
     }
 }
 
+/// rapier's own broad phase handing each update's pair events over in reverse order: the
+/// same pairs, in another order.
+#[derive(Default)]
+struct Reversed(DefaultBroadPhase);
+
+impl BroadPhase for Reversed {
+    fn update(
+        &mut self,
+        params: &IntegrationParameters,
+        colliders: &ColliderSet,
+        bodies: &RigidBodySet,
+        modified: &[ColliderHandle],
+        removed: &[ColliderHandle],
+        events: &mut Vec<BroadPhasePairEvent>,
+    ) {
+        let from = events.len();
+        self.0
+            .update(params, colliders, bodies, modified, removed, events);
+        events[from..].reverse();
+    }
+}
+
 /// The run of median broad-phase time (with what else the run kept).
 fn median<T>(mut runs: Vec<(Row, T)>) -> (Row, T) {
     runs.sort_by(|a, b| a.0.bp_ms.total_cmp(&b.0.bp_ms));
@@ -112,15 +137,16 @@ fn kinetic() -> KineticBroadPhase {
 /// Runs draws `from..from + count` of the scene space and writes the `rapier` rows of `csv`.
 fn space_draws(from: u64, count: u64, steps: usize, repeat: usize, csv: &str) {
     println!("rapier 0.27, {steps} steps at 60 Hz, medians of {repeat} interleaved runs\n");
-    println!("| seed | draw | step | broad phase | pairs | kinetic as |");
-    println!("|---|---|---|---|---|---|");
+    println!("| seed | draw | step | broad phase | pairs | kinetic as | own, pairs reversed |");
+    println!("|---|---|---|---|---|---|---|");
     let mut rows = Vec::new();
     for seed in from..from + count {
         let d = space::draw(seed);
         let make = || RapierScene::from(d.scene.clone());
-        let (mut ds, mut ks) = (Vec::new(), Vec::new());
+        let (mut ds, mut ks, mut rs) = (Vec::new(), Vec::new(), Vec::new());
         for _ in 0..repeat {
             ds.push(run(make(), &mut DefaultBroadPhase::new(), steps, steps));
+            rs.push(run(make(), &mut Reversed::default(), steps, steps).step_ms);
             let mut kbp = kinetic();
             ks.push(run(make(), &mut kbp, steps, steps));
             if ks.len() == repeat {
@@ -136,11 +162,14 @@ fn space_draws(from: u64, count: u64, steps: usize, repeat: usize, csv: &str) {
                         pairs: med(|r| r.pairs),
                     }
                 };
-                let row = DrawRow::new(&d, steps, side(&ds), side(&ks), kbp.structure_name());
+                let mut row = DrawRow::new(&d, steps, side(&ds), side(&ks), kbp.structure_name());
+                rs.sort_by(f64::total_cmp);
+                row.own_reversed_step_ms = Some(rs[rs.len() / 2]);
                 let [s, b, p] = row.ratios();
                 println!(
-                    "| {seed} | {d} | {s:.2}x | {b:.2}x | {p:.2}x | {} |",
-                    row.structure
+                    "| {seed} | {d} | {s:.2}x | {b:.2}x | {p:.2}x | {} | {:.2}x |",
+                    row.structure,
+                    row.reversed_ratio().unwrap_or(f64::NAN)
                 );
                 rows.push(row);
             }

@@ -7,23 +7,22 @@
 //! leaves the grid for a short list of *loose* boxes. Each changed box is looked up among
 //! the filed boxes that have not changed since and among the loose ones, and its pairs
 //! (kept per box) are brought to what it overlaps now, with an add or a delete for each
-//! difference. All the boxes are filed afresh once the loose ones are more than one in
-//! [`LOOSE_SHARE`] (plus [`LOOSE_MIN`]) of those filed, or where a call changes more than
-//! one box in [`MANY_SHARE`]: then the pairs are found afresh from the grid and compared
-//! with those held, both sorted, in one pass.
+//! difference. All the boxes are filed afresh, the pairs found from the grid and compared
+//! with those held, both sorted, in one pass, when that costs less, counted in boxes filed
+//! and pairs found (the same counts, so the same choices, on every run):
+//! - a call whose look-ups would cost more than filing every box (the last filing's count);
+//! - once the loose boxes, filed or scanned again at each call, have cost as much as one
+//!   filing since the last (a renter buys once the rent has come to the price: at most
+//!   twice the cheaper of the two, whatever the calls to come).
 
 use super::SteppedGrid;
 use super::sorted::sorted_difference;
 use crate::aabb::Aabb;
 
-/// The boxes are filed afresh once the loose ones are more than one in this many of those
-/// filed (the resting split's share, `resting.rs`; not fitted here)...
-const LOOSE_SHARE: usize = 8;
-/// ... plus this many.
-const LOOSE_MIN: usize = 16;
-/// A call that changes more than one box in this many finds every pair afresh (the share
-/// below which the resting split stops paying, `resting.rs`; not fitted here).
-const MANY_SHARE: usize = 3;
+/// A changed box's look-up (the filed and loose boxes near it, its partners sorted and
+/// compared) costs about this many boxes filed or pairs found in a filing of every box
+/// (chosen, not fitted: a look-up reads a few cells of two grids and sorts a short list).
+const LOOKUP_WORK: usize = 4;
 /// The loose boxes are filed in a grid of their own for a call's look-ups once the tests a
 /// scan would make are more than this many per box filed and looked up (chosen, not
 /// fitted: a box test costs a few nanoseconds, a filing and a look-up some hundreds).
@@ -53,6 +52,10 @@ pub(crate) struct EnlargedPairs {
     old: Vec<(u32, u32)>,
     gone: Vec<u32>,
     came: Vec<u32>,
+    /// The last filing of every box, in boxes filed and pairs found, and the loose boxes
+    /// filed or scanned since, in boxes.
+    filing_work: usize,
+    loose_work: usize,
     /// How many times every box was filed afresh.
     pub(crate) filings: u64,
 }
@@ -75,6 +78,8 @@ impl Default for EnlargedPairs {
             old: Vec::new(),
             gone: Vec::new(),
             came: Vec::new(),
+            filing_work: 0,
+            loose_work: 0,
             filings: 0,
         }
     }
@@ -164,18 +169,16 @@ impl EnlargedPairs {
                 self.loose.push(i);
             }
         }
-        let held = self.filed_count + self.loose.len();
-        if changed.len() * MANY_SHARE > held || self.loose.len() > self.most_loose() {
+        let loose = self.loose.len();
+        if changed.len() * LOOKUP_WORK + loose > self.filing_work
+            || self.loose_work + loose > self.filing_work
+        {
             // Filing every box finds every pair: those are taken as they are.
             self.file_all_and_diff(adds, deletes);
         } else {
+            self.loose_work += loose;
             self.look_up(changed, adds, deletes);
         }
-    }
-
-    /// The most loose boxes before every box is filed afresh.
-    fn most_loose(&self) -> usize {
-        self.filed_count / LOOSE_SHARE + LOOSE_MIN
     }
 
     /// Brings the pairs of each box of `changed` to those it overlaps now.
@@ -193,7 +196,7 @@ impl EnlargedPairs {
                 .loose
                 .iter()
                 .map(|&i| (i, boxes[i as usize].expect("loose")));
-            self.loose_grid.pairs(items, &|_, _| false, &mut self.all);
+            self.loose_grid.file_for_lookups(items);
         }
         for &i in changed {
             let mut near = std::mem::take(&mut self.near);
@@ -290,6 +293,8 @@ impl EnlargedPairs {
         let new = &self.all;
         sorted_difference(&old, new, |x| deletes.push(x), |y| adds.push(y));
         self.old = old;
+        self.filing_work = self.filed_count + new.len();
+        self.loose_work = 0;
         for list in &mut self.partners {
             list.clear();
         }

@@ -287,6 +287,23 @@ impl SteppedGrid {
         out.dedup();
     }
 
+    /// Files `items` (`(id, box)`, ids distinct) for look-ups ([`Self::overlapping_with`])
+    /// without looking for their pairs.
+    pub(crate) fn file_for_lookups(&mut self, items: impl IntoIterator<Item = (u32, Aabb)>) {
+        self.boxes.clear();
+        self.ids.clear();
+        for (id, b) in items {
+            self.ids.push(id);
+            self.boxes.push(to_f32(&b));
+        }
+        self.built = false;
+        self.nesting = false;
+        self.swept = false;
+        if self.boxes.len() >= 2 {
+            self.file();
+        }
+    }
+
     /// Sorts `pairs` of this call's ids as tuples sort. Where the pairs are many against the
     /// ids (a pile, a rain), by a counting sort on the first id and each first id's few
     /// pairs in place; where they are few (debris), by comparison.
@@ -361,79 +378,7 @@ impl SteppedGrid {
         } else {
             self.sweep_wait = self.sweep_wait.saturating_sub(1);
         }
-        self.choose_cell();
-        // Small boxes and their slots; the others are wide (a NaN box too: it meets none).
-        self.wide.clear();
-        self.slots.clear();
-        let limit = self.widest;
-        // Each small box's cell (`None`: a wide box).
-        self.cells.clear();
-        for b in &self.boxes {
-            let small = width(b) <= limit;
-            self.cells.push(small.then(|| self.centre_cell(b)));
-        }
-        // A grid of another's wide boxes is looked up by the smaller boxes far more than it
-        // finds pairs of its own: hashed, a look-up reads the cells a box overlaps (one or
-        // two a side), not those around it (two or three a side).
-        self.dense = if self.nested_in {
-            None
-        } else {
-            self.dense_grid()
-        };
-        let len = match self.dense {
-            Some((_, n)) => (n[0] * n[1] * n[2]) as usize,
-            None => (HASHED_SLOTS * self.boxes.len()).next_power_of_two(),
-        };
-        self.mask = len as u32 - 1;
-        for (i, c) in self.cells.iter().enumerate() {
-            match c {
-                // Dense: in the cell of its centre.
-                Some(c) if self.dense.is_some() => self.slots.push((self.slot(*c), i as u32)),
-                // Hashed: in every cell it overlaps (at most two a side: a cell is wider
-                // than a small box).
-                Some(_) => {
-                    let b = &self.boxes[i];
-                    let lo = self.cell_of(std::array::from_fn(|k| b[0][k] as f64));
-                    let hi = self.cell_of(std::array::from_fn(|k| b[1][k] as f64));
-                    for x in lo[0]..=hi[0] {
-                        for y in lo[1]..=hi[1] {
-                            for z in lo[2]..=hi[2] {
-                                self.slots.push((self.slot([x, y, z]), i as u32));
-                            }
-                        }
-                    }
-                }
-                None => self.wide.push(i as u32),
-            }
-        }
-        // Counting sort by slot.
-        self.starts.clear();
-        self.starts.resize(len + 1, 0);
-        self.occupied.clear();
-        for &(s, _) in &self.slots {
-            let count = &mut self.starts[s as usize + 1];
-            if *count == 0 {
-                self.occupied.push(s);
-            }
-            *count += 1;
-        }
-        // Summed in a register: each slot's count is read once, not reloaded as just stored.
-        let mut sum = 0;
-        for start in &mut self.starts {
-            sum += *start;
-            *start = sum;
-        }
-        // Every place is written below: no need to clear it first.
-        self.sorted.resize(self.slots.len(), ([Vec3A::ZERO; 2], 0));
-        for &(s, i) in &self.slots {
-            let at = &mut self.starts[s as usize];
-            self.sorted[*at as usize] = (self.boxes[i as usize], i);
-            *at += 1;
-        }
-        // `starts[s]` is where slot `s + 1` starts: shift back.
-        self.starts.copy_within(0..len, 1);
-        self.starts[0] = 0;
-        self.built = true;
+        self.file();
         // Small against small: within a cell, and with the cells after it.
         let test = |a: &AabbF32, i: u32, run: &[(AabbF32, u32)], out: &mut Vec<(u32, u32)>| {
             for (b, j) in run {
@@ -539,6 +484,84 @@ impl SteppedGrid {
                 }
             }
         }
+    }
+
+    /// Files this call's boxes: the small ones in the table by slot, the others listed as
+    /// wide.
+    fn file(&mut self) {
+        self.choose_cell();
+        // Small boxes and their slots; the others are wide (a NaN box too: it meets none).
+        self.wide.clear();
+        self.slots.clear();
+        let limit = self.widest;
+        // Each small box's cell (`None`: a wide box).
+        self.cells.clear();
+        for b in &self.boxes {
+            let small = width(b) <= limit;
+            self.cells.push(small.then(|| self.centre_cell(b)));
+        }
+        // A grid of another's wide boxes is looked up by the smaller boxes far more than it
+        // finds pairs of its own: hashed, a look-up reads the cells a box overlaps (one or
+        // two a side), not those around it (two or three a side).
+        self.dense = if self.nested_in {
+            None
+        } else {
+            self.dense_grid()
+        };
+        let len = match self.dense {
+            Some((_, n)) => (n[0] * n[1] * n[2]) as usize,
+            None => (HASHED_SLOTS * self.boxes.len()).next_power_of_two(),
+        };
+        self.mask = len as u32 - 1;
+        for (i, c) in self.cells.iter().enumerate() {
+            match c {
+                // Dense: in the cell of its centre.
+                Some(c) if self.dense.is_some() => self.slots.push((self.slot(*c), i as u32)),
+                // Hashed: in every cell it overlaps (at most two a side: a cell is wider
+                // than a small box).
+                Some(_) => {
+                    let b = &self.boxes[i];
+                    let lo = self.cell_of(std::array::from_fn(|k| b[0][k] as f64));
+                    let hi = self.cell_of(std::array::from_fn(|k| b[1][k] as f64));
+                    for x in lo[0]..=hi[0] {
+                        for y in lo[1]..=hi[1] {
+                            for z in lo[2]..=hi[2] {
+                                self.slots.push((self.slot([x, y, z]), i as u32));
+                            }
+                        }
+                    }
+                }
+                None => self.wide.push(i as u32),
+            }
+        }
+        // Counting sort by slot.
+        self.starts.clear();
+        self.starts.resize(len + 1, 0);
+        self.occupied.clear();
+        for &(s, _) in &self.slots {
+            let count = &mut self.starts[s as usize + 1];
+            if *count == 0 {
+                self.occupied.push(s);
+            }
+            *count += 1;
+        }
+        // Summed in a register: each slot's count is read once, not reloaded as just stored.
+        let mut sum = 0;
+        for start in &mut self.starts {
+            sum += *start;
+            *start = sum;
+        }
+        // Every place is written below: no need to clear it first.
+        self.sorted.resize(self.slots.len(), ([Vec3A::ZERO; 2], 0));
+        for &(s, i) in &self.slots {
+            let at = &mut self.starts[s as usize];
+            self.sorted[*at as usize] = (self.boxes[i as usize], i);
+            *at += 1;
+        }
+        // `starts[s]` is where slot `s + 1` starts: shift back.
+        self.starts.copy_within(0..len, 1);
+        self.starts[0] = 0;
+        self.built = true;
     }
 
     /// Chooses the cell size: the widest small box, small by the median box taken every

@@ -32,6 +32,12 @@ pub struct DrawRow {
     pub kinetic: Side,
     /// What the kinetic broad phase ran as (its structure or mode).
     pub structure: String,
+    /// Where measured, the engine's own broad phase once more with the pairs of each update
+    /// handed over in reverse order, its step in milliseconds: the same pairs in another
+    /// order, which a solver that visits contacts in the order they came may settle
+    /// differently (a stack's contact points, so its step, can move by a fifth). The step
+    /// ratio's reference: how far the step moves with the order of the pairs alone.
+    pub own_reversed_step_ms: Option<f64>,
 }
 
 impl DrawRow {
@@ -44,7 +50,16 @@ impl DrawRow {
             own,
             kinetic,
             structure: structure.to_string(),
+            own_reversed_step_ms: None,
         }
+    }
+
+    /// The engine's own step with its pairs handed over in reverse order, over its step as
+    /// it is, where measured.
+    pub fn reversed_ratio(&self) -> Option<f64> {
+        self.own_reversed_step_ms
+            .map(|r| r / self.own.step_ms)
+            .filter(|x| x.is_finite())
     }
 
     /// Kinetic over own: the whole step, the broad phase and the pairs (1 where both are 0).
@@ -70,23 +85,38 @@ impl DrawRow {
 pub fn worst_and_median(rows: &[DrawRow]) -> [[f64; 3]; 2] {
     let mut out = [[f64::NAN; 3]; 2];
     for i in 0..3 {
-        let mut xs: Vec<f64> = rows.iter().map(|r| r.ratios()[i]).collect();
-        if xs.is_empty() {
-            continue;
-        }
-        xs.sort_by(f64::total_cmp);
-        out[0][i] = xs[xs.len() - 1];
-        out[1][i] = if xs.len() % 2 == 1 {
-            xs[xs.len() / 2]
-        } else {
-            (xs[xs.len() / 2 - 1] + xs[xs.len() / 2]) / 2.0
-        };
+        [out[0][i], out[1][i]] = largest_and_median(rows.iter().map(|r| r.ratios()[i]).collect());
     }
     out
 }
 
+/// The largest and the median of `xs` (NaN for none).
+fn largest_and_median(mut xs: Vec<f64>) -> [f64; 2] {
+    if xs.is_empty() {
+        return [f64::NAN; 2];
+    }
+    xs.sort_by(f64::total_cmp);
+    let n = xs.len();
+    let median = if n % 2 == 1 {
+        xs[n / 2]
+    } else {
+        (xs[n / 2 - 1] + xs[n / 2]) / 2.0
+    };
+    [xs[n - 1], median]
+}
+
+/// Over the rows where it was measured, the largest and the median of the engine's own step
+/// with its pairs reversed over its step as it is ([`DrawRow::reversed_ratio`]), and the
+/// smallest; `None` where no row has it.
+pub fn reversed_spread(rows: &[DrawRow]) -> Option<[f64; 3]> {
+    let xs: Vec<f64> = rows.iter().filter_map(DrawRow::reversed_ratio).collect();
+    let least = xs.iter().copied().reduce(f64::min)?;
+    let [largest, median] = largest_and_median(xs);
+    Some([largest, median, least])
+}
+
 /// The CSV header.
-pub const HEADER: &str = "engine,seed,draw,steps,own_step_ms,kinetic_step_ms,step_ratio,own_broad_phase_ms,kinetic_broad_phase_ms,broad_phase_ratio,own_pairs,kinetic_pairs,pairs_ratio,structure";
+pub const HEADER: &str = "engine,seed,draw,steps,own_step_ms,kinetic_step_ms,step_ratio,own_broad_phase_ms,kinetic_broad_phase_ms,broad_phase_ratio,own_pairs,kinetic_pairs,pairs_ratio,structure,own_reversed_step_ratio";
 
 /// `engine`'s rows, then its worst and median lines (`seed` column `worst` / `median`).
 pub fn csv_lines(engine: &str, rows: &[DrawRow]) -> Vec<String> {
@@ -96,7 +126,7 @@ pub fn csv_lines(engine: &str, rows: &[DrawRow]) -> Vec<String> {
         let mut line = String::new();
         let _ = write!(
             line,
-            "{engine},{},{},{},{:.3},{:.3},{s:.3},{:.4},{:.4},{b:.3},{:.0},{:.0},{p:.3},{}",
+            "{engine},{},{},{},{:.3},{:.3},{s:.3},{:.4},{:.4},{b:.3},{:.0},{:.0},{p:.3},{},{}",
             r.seed,
             r.draw,
             r.steps,
@@ -106,18 +136,25 @@ pub fn csv_lines(engine: &str, rows: &[DrawRow]) -> Vec<String> {
             r.kinetic.broad_phase_ms,
             r.own.pairs,
             r.kinetic.pairs,
-            r.structure
+            r.structure,
+            r.reversed_ratio()
+                .map_or(String::new(), |x| format!("{x:.3}"))
         );
         lines.push(line);
     }
     let [worst, median] = worst_and_median(rows);
-    for (label, v) in [("worst", worst), ("median", median)] {
+    let reversed = reversed_spread(rows);
+    for (k, (label, v)) in [("worst", worst), ("median", median)]
+        .into_iter()
+        .enumerate()
+    {
         lines.push(format!(
-            "{engine},{label},{} draws,,,,{:.3},,,{:.3},,,{:.3},",
+            "{engine},{label},{} draws,,,,{:.3},,,{:.3},,,{:.3},,{}",
             rows.len(),
             v[0],
             v[1],
-            v[2]
+            v[2],
+            reversed.map_or(String::new(), |r| format!("{:.3}", r[k]))
         ));
     }
     lines
@@ -137,6 +174,11 @@ pub fn report(engine: &str, rows: &[DrawRow], path: &str) {
         median[2],
         rows.len()
     );
+    if let Some([largest, median, least]) = reversed_spread(rows) {
+        println!(
+            "own broad phase, pairs handed over in reverse order, step over its own: {least:.2}x to {largest:.2}x, median {median:.2}x"
+        );
+    }
     let existing = std::fs::read_to_string(path).unwrap_or_default();
     let text = merge(&existing, engine, &csv_lines(engine, rows));
     match std::fs::write(path, text) {
@@ -192,5 +234,20 @@ mod tests {
         assert_eq!(again.lines().count(), 1 + 3 + 2);
         assert!(again.lines().nth(1).unwrap().starts_with("avian,"));
         assert_eq!(again.lines().next(), Some(HEADER));
+        assert!(reversed_spread(&rows).is_none() && rapier[0].ends_with(",grid,"));
+    }
+
+    #[test]
+    fn the_reversed_order_reference_is_over_the_rows_that_have_it() {
+        let mut rows = vec![row(1, 10.0, 5.0), row(2, 10.0, 12.0), row(3, 8.0, 9.0)];
+        rows[0].own_reversed_step_ms = Some(12.0);
+        rows[2].own_reversed_step_ms = Some(6.0);
+        assert_eq!(rows[1].reversed_ratio(), None);
+        let [largest, median, least] = reversed_spread(&rows).expect("two rows have it");
+        assert!((largest - 1.2).abs() < 1e-12 && (least - 0.75).abs() < 1e-12);
+        assert!((median - 0.975).abs() < 1e-12);
+        let lines = csv_lines("rapier", &rows);
+        assert!(lines[0].ends_with(",grid,1.200") && lines[1].ends_with(",grid,"));
+        assert!(lines[3].ends_with(",,1.200") && lines[4].ends_with(",,0.975"));
     }
 }
