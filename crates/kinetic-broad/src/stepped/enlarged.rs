@@ -27,6 +27,8 @@ const LOOKUP_WORK: usize = 4;
 /// scan would make are more than this many per box filed and looked up (chosen, not
 /// fitted: a box test costs a few nanoseconds, a filing and a look-up some hundreds).
 const SCAN_MOST: usize = 32;
+/// The place of a box that is not loose.
+const NOT_LOOSE: u32 = u32::MAX;
 
 /// The boxes, their pairs, and the grid they are filed in.
 #[derive(Clone, Debug)]
@@ -41,9 +43,10 @@ pub(crate) struct EnlargedPairs {
     grid: SteppedGrid,
     filed: Vec<bool>,
     filed_count: usize,
-    /// The boxes changed since they were filed, and per index whether it is among them.
+    /// The boxes changed since they were filed, and per index its place among them
+    /// ([`NOT_LOOSE`]: not among them).
     loose: Vec<u32>,
-    is_loose: Vec<bool>,
+    loose_at: Vec<u32>,
     /// A call's grid of the loose boxes, and scratch.
     loose_grid: SteppedGrid,
     found: Vec<u32>,
@@ -70,7 +73,7 @@ impl Default for EnlargedPairs {
             filed: Vec::new(),
             filed_count: 0,
             loose: Vec::new(),
-            is_loose: Vec::new(),
+            loose_at: Vec::new(),
             loose_grid: SteppedGrid::for_lookups(),
             found: Vec::new(),
             near: Vec::new(),
@@ -119,7 +122,7 @@ impl EnlargedPairs {
             self.boxes.resize(n, None);
             self.partners.resize(n, Vec::new());
             self.filed.resize(n, false);
-            self.is_loose.resize(n, false);
+            self.loose_at.resize(n, NOT_LOOSE);
         }
     }
 
@@ -141,9 +144,12 @@ impl EnlargedPairs {
         if std::mem::take(&mut self.filed[i]) {
             self.filed_count -= 1;
         }
-        if std::mem::take(&mut self.is_loose[i]) {
-            let at = self.loose.iter().position(|&x| x as usize == i);
-            self.loose.swap_remove(at.expect("listed as loose"));
+        let at = std::mem::replace(&mut self.loose_at[i], NOT_LOOSE);
+        if at != NOT_LOOSE {
+            self.loose.swap_remove(at as usize);
+            if let Some(&moved) = self.loose.get(at as usize) {
+                self.loose_at[moved as usize] = at;
+            }
         }
     }
 
@@ -165,7 +171,7 @@ impl EnlargedPairs {
             let b = boxes_now(i);
             self.boxes[i as usize] = b;
             if b.is_some() {
-                self.is_loose[i as usize] = true;
+                self.loose_at[i as usize] = self.loose.len() as u32;
                 self.loose.push(i);
             }
         }
@@ -211,7 +217,7 @@ impl EnlargedPairs {
                 }
                 near.extend(self.found.iter().copied().filter(|&j| {
                     j != i
-                        && (self.filed[j as usize] || self.is_loose[j as usize])
+                        && (self.filed[j as usize] || self.loose_at[j as usize] != NOT_LOOSE)
                         && self.boxes[j as usize].is_some_and(|c| c.overlaps(&b))
                 }));
                 near.sort_unstable();
@@ -261,7 +267,7 @@ impl EnlargedPairs {
     fn file_all(&mut self) {
         self.filings += 1;
         for &i in &self.loose {
-            self.is_loose[i as usize] = false;
+            self.loose_at[i as usize] = NOT_LOOSE;
         }
         self.loose.clear();
         self.filed_count = 0;
