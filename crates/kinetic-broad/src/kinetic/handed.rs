@@ -13,7 +13,12 @@ use super::BroadPhaseCore;
 use crate::Aabb;
 use crate::{Bound, Engine, Key, PairEvent};
 use kinetic_core::{Real, Vec3};
+use rustc_hash::FxHashMap;
 use smallvec::SmallVec;
+
+/// A collider with more links than this (a ground under thousands of bodies) has them
+/// indexed by the other end, so that finding one does not pass over them all.
+const LONG: usize = 32;
 
 /// One end of a held pair, kept by the other collider: this collider's index and key, and
 /// whether the engine has the pair.
@@ -29,6 +34,8 @@ struct Link {
 #[derive(Debug, Default)]
 pub(super) struct Handed {
     links: Vec<SmallVec<[Link; 6]>>,
+    /// Per collider with more than [`LONG`] links, each link's place by its other end.
+    places: Vec<Option<Box<FxHashMap<u32, u32>>>>,
     /// Pairs held, and those of them the engine has.
     held: usize,
     handed: usize,
@@ -47,10 +54,42 @@ impl Handed {
 
     /// Where collider `b` is among `a`'s links.
     fn find(&self, a: u32, b: u32) -> Option<usize> {
+        if let Some(Some(places)) = self.places.get(a as usize) {
+            return places.get(&b).map(|&at| at as usize);
+        }
         self.links
             .get(a as usize)?
             .iter()
             .position(|l| l.other == b)
+    }
+
+    /// Adds `link` to collider `x`'s links.
+    fn push_link(&mut self, x: u32, link: Link) {
+        let (list, places) = (&mut self.links[x as usize], &mut self.places[x as usize]);
+        list.push(link);
+        match places {
+            Some(places) => {
+                places.insert(link.other, list.len() as u32 - 1);
+            }
+            None if list.len() > LONG => {
+                let at = list.iter().enumerate().map(|(k, l)| (l.other, k as u32));
+                *places = Some(Box::new(at.collect()));
+            }
+            None => {}
+        }
+    }
+
+    /// Takes the link at place `at` out of collider `x`'s links.
+    fn remove_link(&mut self, x: u32, at: usize) -> Link {
+        let (list, places) = (&mut self.links[x as usize], &mut self.places[x as usize]);
+        let gone = list.swap_remove(at);
+        if let Some(places) = places {
+            places.remove(&gone.other);
+            if let Some(moved) = list.get(at) {
+                places.insert(moved.other, at as u32);
+            }
+        }
+        gone
     }
 
     /// Whether the engine has the pair of colliders `a` and `b`.
@@ -64,6 +103,7 @@ impl Handed {
         let need = i as usize + 1;
         if self.links.len() < need {
             self.links.resize(need, SmallVec::new());
+            self.places.resize(need, None);
             self.boxes
                 .resize(need, (0, Aabb::new(Vec3::ZERO, Vec3::ZERO)));
             self.looked.resize(need, 0);
@@ -76,18 +116,19 @@ impl Handed {
         self.reach(a.index.max(b.index));
         let mut had = false;
         for (x, y) in [(a, b), (b, a)] {
-            let list = &mut self.links[x.index as usize];
-            match list.iter_mut().find(|l| l.other == y.index) {
-                Some(l) => {
+            match self.find(x.index, y.index) {
+                Some(at) => {
+                    let l = &mut self.links[x.index as usize][at];
                     l.key = y;
                     had = l.handed;
                 }
                 None => {
-                    list.push(Link {
+                    let link = Link {
                         other: y.index,
                         key: y,
                         handed: false,
-                    });
+                    };
+                    self.push_link(x.index, link);
                     self.held += usize::from(x.index < y.index);
                 }
             }
@@ -100,7 +141,7 @@ impl Handed {
         let mut had = false;
         for (x, y) in [(a, b), (b, a)] {
             if let Some(at) = self.find(x, y) {
-                had = self.links[x as usize].swap_remove(at).handed;
+                had = self.remove_link(x, at).handed;
                 self.held -= usize::from(x < y);
             }
         }
@@ -128,11 +169,13 @@ impl Handed {
         let Some(list) = self.links.get_mut(i as usize) else {
             return;
         };
-        for l in std::mem::take(list) {
+        let list = std::mem::take(list);
+        self.places[i as usize] = None;
+        for l in list {
             self.handed -= usize::from(l.handed);
             self.held -= 1;
             if let Some(at) = self.find(l.other, i) {
-                self.links[l.other as usize].swap_remove(at);
+                self.remove_link(l.other, at);
             }
         }
     }
@@ -321,10 +364,84 @@ impl BroadPhaseCore {
                 h.handed
             ));
         }
+        for (a, (list, places)) in h.links.iter().zip(&h.places).enumerate() {
+            let Some(places) = places else { continue };
+            let placed = list
+                .iter()
+                .enumerate()
+                .all(|(k, l)| places.get(&l.other) == Some(&(k as u32)));
+            if !placed || places.len() != list.len() {
+                return Err(format!("handed: collider {a}'s links misplaced"));
+            }
+        }
         let held = h.links.iter().map(|l| l.len()).sum::<usize>() / 2;
         if held != h.held {
             return Err(format!("handed: {held} pairs held, {} counted", h.held));
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::BTreeMap;
+
+    /// Pairs held, handed, let go and forgotten at random, most of them on one collider (a
+    /// ground whose links are indexed): the links agree with a plain map after every change.
+    #[test]
+    fn a_collider_with_many_links_finds_each_as_a_plain_map_does() {
+        let mut core = BroadPhaseCore::new();
+        let mut want: BTreeMap<(u32, u32), bool> = BTreeMap::new();
+        let mut s = 7u64;
+        let mut next = |n: u64| {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s % n) as u32
+        };
+        let key = |i: u32| Key::new(i, 1);
+        for round in 0..4000 {
+            // One end is the ground (collider 0) three times in four.
+            let a = if next(4) > 0 { 0 } else { 1 + next(150) };
+            let b = 1 + next(150);
+            if a == b {
+                continue;
+            }
+            let p = (a.min(b), a.max(b));
+            let h = &mut core.handed;
+            match next(10) {
+                0..=4 => {
+                    let had = h.hold(key(a), key(b));
+                    assert_eq!(had, want.get(&p).copied().unwrap_or(false));
+                    want.entry(p).or_insert(false);
+                }
+                5 | 6 => {
+                    if let Some(handed) = want.get_mut(&p) {
+                        let now = !*handed;
+                        h.set(a, b, now);
+                        *handed = now;
+                    }
+                }
+                7 | 8 => {
+                    let had = h.let_go(a, b);
+                    assert_eq!(Some(had), want.remove(&p).or(Some(false)));
+                }
+                _ if round % 50 == 0 => {
+                    h.forget(b);
+                    want.retain(|&(x, y), _| x != b && y != b);
+                }
+                _ => {}
+            }
+            core.validate_handed().unwrap();
+            for (&(x, y), &handed) in &want {
+                assert_eq!(core.handed.has(x, y), handed);
+                assert_eq!(core.handed.has(y, x), handed);
+            }
+        }
+        assert!(
+            core.handed.places[0].is_some(),
+            "the ground's links were never indexed"
+        );
     }
 }

@@ -13,19 +13,24 @@
 //!
 //! - kinetic, a step costs its re-plans and events, [`OP_COST`] each, averaged over about
 //!   [`SMOOTHING`] steps;
-//! - stepped, a step costs [`BOX_COST`] per collider held, or while fat boxes hold the pairs
-//!   ([`FatPairs`]) their work, counted in the same units;
+//! - stepped, a step costs [`BOX_COST`] per collider held, or, while the resting boxes stay
+//!   filed ([`Resting`]) or fat boxes hold the pairs ([`FatPairs`]), the work they count in
+//!   the same units; a kinetic world keeps the price its last stepped stretch measured;
 //! - stepped, the bodies' plans are kept on three position updates in [`PRICE_EVERY`]
 //!   ([`FAT_PRICE_SPACING`] times as many while fat boxes hold the pairs) (no
 //!   structure to tell), and the third prices a kinetic step: the last kinetic stretch's
 //!   cost scaled by its re-plans to the re-plans now; before any kinetic stretch, an event
 //!   for each re-plan and the loose grid's re-anchors for the boxes' moves.
 //!
-//! The world steps once the kinetic cost is above the stepped one, and goes back after
-//! [`CALM_COUNTS`] prices running below [`BACK`] of it (more after kinetic stretches that did
-//! not last), at least [`DWELL`] steps after the last switch. A world starts stepped unless
-//! most of its bodies sleep. A world steps only when the broad phase picked the structure
-//! itself: a caller's choice ([`BroadPhaseCore::with_loose_grid`]) stays kinetic.
+//! Every world starts stepped: its first step files the boxes, far less than building the
+//! kinetic structure (a sleeping world's resting boxes then stay filed). The world steps
+//! once the kinetic cost is above the stepped one, and goes back after [`CALM_COUNTS`]
+//! prices running below [`BACK`] of it (more after kinetic stretches that did not last), at
+//! least [`DWELL`] steps after the last switch, and once what kinetic steps would have saved
+//! since the last switch pays for building the structure ([`OP_COST`] a collider): rent or
+//! buy, so a long calm run goes kinetic and a short one never pays for a build. A world
+//! steps only when the broad phase picked the structure itself: a caller's choice
+//! ([`BroadPhaseCore::with_loose_grid`]) stays kinetic.
 //!
 //! An engine that keeps enlarged boxes of its own ([`Engine::enlarged`], avian's) steps for
 //! good, on those boxes: it moves a box only when its collider leaves it and lists those
@@ -117,6 +122,10 @@ pub(super) struct Stepped {
     resting: Resting,
     changed: Vec<u64>,
     calls: u64,
+    /// The last call in which some box changed, and whether this call's pairs were those
+    /// of the last (no box changed in it or in the one before: nothing to look at).
+    last_change: u64,
+    quiet: bool,
 }
 
 /// What decides the mode.
@@ -134,6 +143,10 @@ pub(super) struct Meter {
     switched: u64,
     /// Whether the next position update switches.
     switch: bool,
+    /// While stepped, what kinetic steps would have saved since the last switch (a step's
+    /// stepped cost above its kinetic price, summed): the world goes kinetic only once this
+    /// pays for building the structure, [`OP_COST`] a collider.
+    saved: Real,
     /// Counts running that priced a kinetic step below [`BACK`] of a stepped one, and how
     /// many it takes to go back: [`CALM_COUNTS`], doubled (up to [`MOST_CALM_COUNTS`]) each
     /// time a kinetic stretch ends within [`SHORT_STRETCH`] steps.
@@ -208,6 +221,22 @@ impl Stepped {
     /// Times its fat boxes were filed afresh, and boxes re-fattened on their own.
     pub(super) fn fat_counts(&self) -> (u64, u64) {
         (self.grid.rebuilds, self.grid.refattened)
+    }
+
+    /// The work of a call, averaged, in boxes filed, where it keeps some boxes filed
+    /// between calls (resting boxes, or fat boxes holding the pairs; none in a quiet call);
+    /// `None`: every box is filed each call.
+    fn work(&self) -> Option<Real> {
+        if self.quiet {
+            return Some(0.0);
+        }
+        self.resting.work().or_else(|| self.grid.work())
+    }
+
+    /// Whether the last call found nothing to do.
+    #[cfg(test)]
+    pub(super) fn quiet(&self) -> bool {
+        self.quiet
     }
 
     /// Times the resting boxes (or the enlarged ones) were filed.
@@ -309,6 +338,7 @@ impl Stepped {
         if self.changed.len() <= i {
             self.changed.resize(i + 1, 0);
         }
+        self.last_change = self.calls + 1;
         if self.changed[i] != self.calls + 1 {
             self.changed[i] = self.calls + 1;
             if self.enlarged.is_some() {
@@ -383,21 +413,29 @@ impl BroadPhaseCore {
             OP_COST * (self.step.replans + self.step.events) as Real
         };
         m.kinetic += w * (kinetic - m.kinetic);
-        let stepped = match self.stepped.as_ref().and_then(|st| st.grid.work()) {
-            Some(fat) => fat.min(BOX_COST * held),
-            None => BOX_COST * held,
-        };
-        m.stepped += w * (stepped - m.stepped);
+        match self.stepped.as_ref() {
+            Some(st) => {
+                let all = BOX_COST * held;
+                m.stepped = st.work().map_or(all, |work| work.min(all));
+            }
+            // A kinetic world is priced against its last stepped stretch, as measured
+            // there (every world starts stepped).
+            None if m.stepped > 0.0 => {}
+            None => m.stepped = BOX_COST * held,
+        }
         if counted {
             m.replans += w * (replans - m.replans);
         }
         let steps = self.stats.steps;
-        if self.stepped.is_some() && counted {
-            m.calm = if m.kinetic < BACK * m.stepped {
-                m.calm + 1
-            } else {
-                0
-            };
+        if self.stepped.is_some() {
+            m.saved += (m.stepped - m.kinetic).max(0.0);
+            if counted {
+                m.calm = if m.kinetic < BACK * m.stepped {
+                    m.calm + 1
+                } else {
+                    0
+                };
+            }
         }
         let need = m.need.max(CALM_COUNTS);
         if steps < m.switched + DWELL {
@@ -412,10 +450,14 @@ impl BroadPhaseCore {
             };
             m.last_cost = m.kinetic;
             m.last_replans = m.replans;
+            m.saved = 0.0;
             m.switched = steps;
             m.switch = true;
-        } else if self.stepped.is_some() && m.calm >= need {
+        } else if self.stepped.is_some() && m.calm >= need && m.saved >= OP_COST * held {
+            // Rent or buy: a build is paid for by what the stepped steps since the last
+            // switch cost above kinetic ones, so a run pays at most about twice the cheaper.
             m.calm = 0;
+            m.saved = 0.0;
             m.switched = steps;
             m.switch = true;
         }
@@ -579,6 +621,12 @@ impl BroadPhaseCore {
             for &(a, b) in &st.gone {
                 self.out_event(a, b, false, events);
             }
+            return;
+        }
+        // No box changed in this call or the last: every box is still, as in the last
+        // call, whose pairs stand (a sleeping world costs nothing a step).
+        st.quiet = st.calls > 1 && st.last_change + 1 < st.calls;
+        if st.quiet {
             return;
         }
         // Where many boxes rest, only those that moved are filed: a resting box moves

@@ -174,17 +174,10 @@ impl BroadPhaseCore {
             self.engine_boxes = holds.iter().any(|&(h, ..)| engine.enlarged(h).is_some());
         }
         if self.structure.is_none() && !self.is_stepped() {
-            // A world starts stepped, its first steps showing whether plans hold, unless most
-            // of its bodies sleep (plans at rest, which hold for as long as they sleep).
-            let (mut moving, mut asleep) = (0, 0);
-            for (_, _, state) in &holds {
-                if let Some(state) = state {
-                    moving += 1;
-                    asleep += usize::from(state.sleeping);
-                }
-            }
-            // An engine that keeps enlarged boxes: stepped for good (see `mode.rs`).
-            if self.may_step() && (self.engine_boxes || 2 * asleep < moving.max(1)) {
+            // A world starts stepped, its first steps showing whether plans hold; one of
+            // sleeping bodies too, whose resting boxes stay filed between steps (an engine
+            // that keeps enlarged boxes: stepped for good, see `mode.rs`).
+            if self.may_step() {
                 self.stepped = Some(mode::Stepped::new(self.engine_boxes));
             } else {
                 self.structure = Some(new_structure(self.in_loose_grid(), step.dt));

@@ -103,6 +103,10 @@ impl Toy {
         self.check(core);
         let mut moved = Vec::new();
         for (body, s) in &mut self.bodies {
+            if s.sleeping {
+                // Asleep: it does not move, and the engine does not list it.
+                continue;
+            }
             s.velocity.y -= 9.81 * STEP.dt;
             s.centre += s.velocity * STEP.dt;
             if s.centre.y < 0.5 {
@@ -381,4 +385,49 @@ fn a_stepped_world_hands_over_what_a_kinetic_one_does_on_a_calm_world() {
     };
     assert_eq!(touching(&a), touching(&b));
     assert_eq!(own.audit_error(), None);
+}
+
+#[test]
+fn a_world_fallen_asleep_costs_nothing_a_step_and_a_woken_body_is_seen() {
+    // 60 balls jostled on the ground, 1.05 apart, then all asleep.
+    let xs: Vec<Real> = (0..60).map(|k| k as Real * 1.05).collect();
+    let mut toy = Toy::new(&xs);
+    toy.boxes = true;
+    let mut core = BroadPhaseCore::new().with_audit();
+    let mut s = 3;
+    for _ in 0..30 {
+        for (_, b) in &mut toy.bodies {
+            b.velocity.x = jitter(&mut s);
+        }
+        toy.step(&mut core);
+        touching_pairs_are_held(&toy);
+    }
+    assert!(core.is_stepped(), "{:?}", core.stats());
+    for (_, b) in &mut toy.bodies {
+        (b.velocity, b.sleeping) = (Vec3::ZERO, true);
+    }
+    for step in 0..40 {
+        toy.step(&mut core);
+        touching_pairs_are_held(&toy);
+        // From the second call after the last move on, the calls find nothing to do.
+        let quiet = core.stepped.as_ref().is_some_and(|st| st.quiet());
+        assert_eq!(quiet, step >= 1, "step {step}: {:?}", core.stats());
+    }
+    assert!(
+        core.is_stepped(),
+        "a quiet world went kinetic: {:?}",
+        core.stats()
+    );
+    // One ball wakes and rolls into its neighbour: the pair is seen at once.
+    let (_, b) = &mut toy.bodies[10];
+    (b.velocity, b.sleeping) = (Vec3::new(3.0, 0.0, 0.0), false);
+    let (a, c) = (Key::new(11, 0), Key::new(12, 0));
+    let mut met = false;
+    for _ in 0..20 {
+        toy.step(&mut core);
+        touching_pairs_are_held(&toy);
+        met |= toy.pairs.contains(&(a, c));
+    }
+    assert!(met, "the woken ball's pair was never handed over");
+    assert_eq!(core.audit_error(), None);
 }
