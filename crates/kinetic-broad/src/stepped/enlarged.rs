@@ -49,7 +49,8 @@ pub(crate) struct EnlargedPairs {
     /// ([`NOT_LOOSE`]: not among them).
     loose: Vec<u32>,
     loose_at: Vec<u32>,
-    /// A call's grid of the loose boxes, and scratch.
+    /// A call's loose boxes side by side (scanned) or in a grid of their own, and scratch.
+    loose_boxes: Vec<(u32, Aabb)>,
     loose_grid: SteppedGrid,
     found: Vec<u32>,
     near: Vec<u32>,
@@ -76,6 +77,7 @@ impl Default for EnlargedPairs {
             filed_count: 0,
             loose: Vec::new(),
             loose_at: Vec::new(),
+            loose_boxes: Vec::new(),
             loose_grid: SteppedGrid::for_lookups(),
             found: Vec::new(),
             near: Vec::new(),
@@ -198,30 +200,44 @@ impl EnlargedPairs {
     ) {
         let scan =
             changed.len() * self.loose.len() <= SCAN_MOST * (changed.len() + self.loose.len());
-        if !scan {
-            let boxes = &self.boxes;
-            let items = self
-                .loose
-                .iter()
-                .map(|&i| (i, boxes[i as usize].expect("loose")));
-            self.loose_grid.file_for_lookups(items);
+        // The loose boxes side by side, scanned in order, or filed in a grid of their own.
+        let boxes = &self.boxes;
+        let loose = self
+            .loose
+            .iter()
+            .map(|&i| (i, boxes[i as usize].expect("loose")));
+        self.loose_boxes.clear();
+        if scan {
+            self.loose_boxes.extend(loose);
+        } else {
+            self.loose_grid.file_for_lookups(loose);
         }
         for &i in changed {
             let mut near = std::mem::take(&mut self.near);
             near.clear();
             if let Some(b) = self.boxes[i as usize] {
+                // The filed boxes that have not changed since, then the loose ones.
                 self.found.clear();
                 self.grid.overlapping_with(&b, &mut self.found);
-                if scan {
-                    self.found.extend_from_slice(&self.loose);
-                } else {
-                    self.loose_grid.overlapping_with(&b, &mut self.found);
-                }
+                let (filed, boxes) = (&self.filed, &self.boxes);
                 near.extend(self.found.iter().copied().filter(|&j| {
-                    j != i
-                        && (self.filed[j as usize] || self.loose_at[j as usize] != NOT_LOOSE)
-                        && self.boxes[j as usize].is_some_and(|c| c.overlaps(&b))
+                    j != i && filed[j as usize] && boxes[j as usize].is_some_and(|c| c.overlaps(&b))
                 }));
+                if scan {
+                    let meets = self
+                        .loose_boxes
+                        .iter()
+                        .filter(|(j, c)| *j != i && c.overlaps(&b));
+                    near.extend(meets.map(|&(j, _)| j));
+                } else {
+                    self.found.clear();
+                    self.loose_grid.overlapping_with(&b, &mut self.found);
+                    near.extend(
+                        self.found.iter().copied().filter(|&j| {
+                            j != i && boxes[j as usize].is_some_and(|c| c.overlaps(&b))
+                        }),
+                    );
+                }
                 near.sort_unstable();
                 near.dedup();
             }
