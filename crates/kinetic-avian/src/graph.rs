@@ -7,7 +7,7 @@ use avian3d::prelude::*;
 use bevy::prelude::*;
 use kinetic_broad::Key;
 
-/// Adds to `graph` every pair of `pairs` (live ones, in key order) whose colliders' enlarged
+/// Adds to `graph` every pair of `pairs` (live ones, each once) whose colliders' enlarged
 /// boxes overlap and that it does not hold, unless avian's broad phase would filter it out;
 /// returns how many were added.
 pub(crate) fn add_overlapping(
@@ -18,8 +18,13 @@ pub(crate) fn add_overlapping(
     graph: &mut ContactGraph,
 ) -> u64 {
     let mut added = 0;
+    // The pairs come grouped by their first collider: it is read once a group.
+    let mut first = None;
     for &(a, b) in pairs {
-        let (Some(c1), Some(c2)) = (world.collider_view(a), world.collider_view(b)) else {
+        if first.is_none_or(|(k, _)| k != a) {
+            first = Some((a, world.collider_view(a)));
+        }
+        let (Some(c1), Some(c2)) = (first.and_then(|f| f.1), world.collider_view(b)) else {
             continue;
         };
         if graph.contains(c1.entity, c2.entity) || !c1.enlarged.intersects(&c2.enlarged.get()) {

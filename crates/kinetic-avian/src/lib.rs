@@ -53,7 +53,6 @@ mod view;
 use avian3d::collision::CollisionDiagnostics;
 use avian3d::prelude::*;
 use bevy::ecs::system::{StaticSystemParam, SystemParamItem};
-use bevy::platform::collections::{HashMap, HashSet};
 use bevy::prelude::*;
 use core::marker::PhantomData;
 use kinetic_broad::{BroadPhaseCore, Key, PairEvent};
@@ -132,12 +131,13 @@ where
 #[derive(Resource, Default)]
 pub struct KineticBroadPhase {
     core: BroadPhaseCore,
-    /// The pairs the core has added and not deleted: those whose proxies can meet within the
-    /// step; and per collider, the other ends of its live pairs.
-    live: HashSet<(Key, Key)>,
-    partners: HashMap<Key, Vec<Key>>,
-    /// Pairs that became live in this step.
+    /// Pairs the core handed to the engine in this step (those it holds are kept in the
+    /// core alone: [`BroadPhaseCore::partners`]).
     fresh: Vec<(Key, Key)>,
+    /// Per collider index, the last step that listed it among the active colliders, and
+    /// the last that took its pairs (scratch for the pairs to check).
+    marks: Vec<(u32, u32)>,
+    call: u32,
     /// Whether the first step has been seen.
     started: bool,
     audit: bool,
@@ -168,13 +168,12 @@ impl KineticBroadPhase {
 
     /// The pairs whose proxies can meet within the step.
     pub fn live_pairs(&self) -> usize {
-        self.live.len()
+        self.core.stats().pairs
     }
 
     /// Whether the proxies of colliders `a` and `b` can meet within the step.
     pub fn is_live(&self, a: Entity, b: Entity) -> bool {
-        let (a, b) = (view::key(a), view::key(b));
-        self.live.contains(&(a.min(b), a.max(b)))
+        self.core.has_pair(view::key(a), view::key(b))
     }
 
     /// Pairs added to avian's contact graph, over the whole run.
@@ -208,49 +207,52 @@ impl KineticBroadPhase {
         }
     }
 
-    /// Takes the core's pair events into the live set.
-    fn apply(&mut self, events: &[PairEvent]) {
-        for e in events {
-            match *e {
-                PairEvent::Add(a, b) => {
-                    if self.live.insert((a, b)) {
-                        self.partners.entry(a).or_default().push(b);
-                        self.partners.entry(b).or_default().push(a);
-                        self.fresh.push((a, b));
-                    }
-                }
-                PairEvent::Delete(a, b) => {
-                    if self.live.remove(&(a, b)) {
-                        for (i, j) in [(a, b), (b, a)] {
-                            if let Some(list) = self.partners.get_mut(&i) {
-                                list.retain(|&x| x != j);
-                                if list.is_empty() {
-                                    self.partners.remove(&i);
-                                }
-                            }
-                        }
-                    }
-                }
-            }
-        }
+    /// Notes the pairs the core handed over in this call.
+    fn note_added(&mut self, events: &[PairEvent]) {
+        let added = events.iter().filter_map(|e| match *e {
+            PairEvent::Add(a, b) => Some((a, b)),
+            PairEvent::Delete(..) => None,
+        });
+        self.fresh.extend(added);
     }
 
-    /// The live pairs that may have to go into the contact graph this step: those new this
-    /// step and those of the colliders changed or whose enlarged boxes moved (`active`). A
-    /// live pair of two colliders whose enlarged boxes did not move is as it was when last
-    /// checked: in the graph if those boxes overlapped (avian drops a pair only once they
-    /// stop), and still apart if they were apart.
+    /// The live pairs that may have to go into the contact graph this step, each once: those
+    /// of the colliders changed or whose enlarged boxes moved (`active`), and those new this
+    /// step. A live pair of two colliders whose enlarged boxes did not move is as it was when
+    /// last checked: in the graph if those boxes overlapped (avian drops a pair only once
+    /// they stop), and still apart if they were apart. In the order of `active`, then of the
+    /// new pairs, so that the graph is built the same way every run.
     fn pairs_to_check(&mut self, active: &[Key]) -> Vec<(Key, Key)> {
-        let mut pairs = std::mem::take(&mut self.fresh);
+        self.call = self.call.wrapping_add(1).max(1);
+        let call = self.call;
+        if let Some(last) = active.iter().map(|k| k.index as usize).max()
+            && self.marks.len() <= last
+        {
+            self.marks.resize(last + 1, (0, 0));
+        }
+        for a in active {
+            self.marks[a.index as usize].0 = call;
+        }
+        let is_active =
+            |marks: &[(u32, u32)], k: Key| marks.get(k.index as usize).is_some_and(|m| m.0 == call);
+        let mut pairs = Vec::new();
         for &a in active {
-            if let Some(list) = self.partners.get(&a) {
-                pairs.extend(list.iter().map(|&b| (a.min(b), a.max(b))));
+            let taken = &mut self.marks[a.index as usize].1;
+            if std::mem::replace(taken, call) == call {
+                continue;
+            }
+            // A pair of two active colliders is taken from its lower end.
+            let marks = &self.marks;
+            let others = self.core.partners(a);
+            let others = others.filter(|&b| !(b.index < a.index && is_active(marks, b)));
+            pairs.extend(others.map(|b| (a, b)));
+        }
+        for (a, b) in std::mem::take(&mut self.fresh) {
+            let covered = is_active(&self.marks, a) || is_active(&self.marks, b);
+            if !covered && self.core.has_pair(a, b) {
+                pairs.push((a, b));
             }
         }
-        // In key order, so that the graph is built the same way every run.
-        pairs.sort_unstable();
-        pairs.dedup();
-        pairs.retain(|p| self.live.contains(p));
         pairs
     }
 }
@@ -281,7 +283,7 @@ fn collect_pairs<H: CollisionHooks>(
             state
                 .core
                 .update(step, &world, &moved, &removed, &mut events);
-            state.apply(&events);
+            state.note_added(&events);
             events.clear();
             state.audit_now(&world, "after the position update");
             &[][..]
@@ -293,7 +295,7 @@ fn collect_pairs<H: CollisionHooks>(
         state
             .core
             .update(step, &world, &modified, removed, &mut events);
-        state.apply(&events);
+        state.note_added(&events);
     }
     state.audit_now(&world, "at the start of the step");
     // Of the live pairs, those that may have changed whether their enlarged boxes overlap:

@@ -89,6 +89,7 @@ pub(crate) struct AvianWorld<'w, 's> {
 }
 
 /// What the graph needs of a collider: its entity, enlarged box and tree proxy.
+#[derive(Clone, Copy)]
 pub(crate) struct ColliderView<'a> {
     pub(crate) entity: Entity,
     pub(crate) enlarged: &'a EnlargedAabb,

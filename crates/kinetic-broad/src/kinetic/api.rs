@@ -125,6 +125,14 @@ impl BroadPhaseCore {
         self.knows(a) && self.knows(b) && self.handed.has(a.index, b.index)
     }
 
+    /// The colliders with which the engine has a pair with collider `c` by this broad
+    /// phase, in the order they are held (the same on every run): an engine that keeps its
+    /// own pair list need not keep another beside it.
+    pub fn partners(&self, c: Key) -> impl Iterator<Item = Key> + '_ {
+        let known = self.knows(c);
+        self.handed.partners(c.index).filter(move |_| known)
+    }
+
     /// Whether the broad phase holds the pair of these two colliders: their proxies can
     /// meet within the step (the engine has those of them whose boxes meet too).
     pub fn holds_pair(&self, a: Key, b: Key) -> bool {

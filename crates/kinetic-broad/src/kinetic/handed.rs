@@ -92,6 +92,12 @@ impl Handed {
         gone
     }
 
+    /// The other ends of the pairs of collider `i` that the engine has, as held.
+    pub(super) fn partners(&self, i: u32) -> impl Iterator<Item = Key> + '_ {
+        let links = self.links.get(i as usize).map_or(&[][..], |l| &l[..]);
+        links.iter().filter(|l| l.handed).map(|l| l.key)
+    }
+
     /// Whether the engine has the pair of colliders `a` and `b`.
     pub(super) fn has(&self, a: u32, b: u32) -> bool {
         self.find(a, b)

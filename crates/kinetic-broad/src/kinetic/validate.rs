@@ -138,6 +138,24 @@ impl BroadPhaseCore {
                 self.handed.handed()
             ));
         }
+        // Each collider's partners are its handed pairs, each once.
+        let mut ends = 0;
+        for ka in (0..self.proxies.len() as u32).filter_map(key) {
+            let mut others: Vec<Key> = self.partners(ka).collect();
+            ends += others.len();
+            if let Some(kb) = others.iter().find(|&&kb| !self.has_pair(ka, kb)) {
+                return Err(format!("{kb:?} listed as a partner of {ka:?}, not handed"));
+            }
+            others.sort_unstable();
+            if others.windows(2).any(|w| w[0] == w[1]) {
+                return Err(format!("{ka:?} has a partner listed twice"));
+            }
+        }
+        if ends != 2 * handed {
+            return Err(format!(
+                "{ends} partner ends listed for {handed} handed pairs"
+            ));
+        }
         Ok(())
     }
 }

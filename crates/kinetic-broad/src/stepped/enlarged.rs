@@ -17,7 +17,7 @@
 
 use super::SteppedGrid;
 use super::sorted::sorted_difference;
-use crate::aabb::Aabb;
+use crate::aabb::{Aabb, AabbF32, overlap, to_f32};
 
 /// A changed box's look-up (the filed and loose boxes near it, its partners sorted and
 /// compared) costs about this many boxes filed or pairs found in a filing of every box
@@ -49,8 +49,10 @@ pub(crate) struct EnlargedPairs {
     /// ([`NOT_LOOSE`]: not among them).
     loose: Vec<u32>,
     loose_at: Vec<u32>,
-    /// A call's loose boxes side by side (scanned) or in a grid of their own, and scratch.
-    loose_boxes: Vec<(u32, Aabb)>,
+    /// A call's loose boxes side by side, rounded out to single precision (scanned, with
+    /// their indices beside them), or in a grid of their own, and scratch.
+    loose_boxes: Vec<AabbF32>,
+    loose_ids: Vec<u32>,
     loose_grid: SteppedGrid,
     found: Vec<u32>,
     near: Vec<u32>,
@@ -78,6 +80,7 @@ impl Default for EnlargedPairs {
             loose: Vec::new(),
             loose_at: Vec::new(),
             loose_boxes: Vec::new(),
+            loose_ids: Vec::new(),
             loose_grid: SteppedGrid::for_lookups(),
             found: Vec::new(),
             near: Vec::new(),
@@ -207,8 +210,12 @@ impl EnlargedPairs {
             .iter()
             .map(|&i| (i, boxes[i as usize].expect("loose")));
         self.loose_boxes.clear();
+        self.loose_ids.clear();
         if scan {
-            self.loose_boxes.extend(loose);
+            for (i, b) in loose {
+                self.loose_boxes.push(to_f32(&b));
+                self.loose_ids.push(i);
+            }
         } else {
             self.loose_grid.file_for_lookups(loose);
         }
@@ -220,23 +227,24 @@ impl EnlargedPairs {
                 self.found.clear();
                 self.grid.overlapping_with(&b, &mut self.found);
                 let (filed, boxes) = (&self.filed, &self.boxes);
-                near.extend(self.found.iter().copied().filter(|&j| {
-                    j != i && filed[j as usize] && boxes[j as usize].is_some_and(|c| c.overlaps(&b))
-                }));
-                if scan {
-                    let meets = self
-                        .loose_boxes
+                let exact = |j: u32| j != i && boxes[j as usize].is_some_and(|c| c.overlaps(&b));
+                near.extend(
+                    self.found
                         .iter()
-                        .filter(|(j, c)| *j != i && c.overlaps(&b));
-                    near.extend(meets.map(|&(j, _)| j));
+                        .copied()
+                        .filter(|&j| filed[j as usize] && exact(j)),
+                );
+                if scan {
+                    // Rounded out, a test passes every pair that meets: the few that pass
+                    // are tested exactly.
+                    let q = to_f32(&b);
+                    let meets = self.loose_boxes.iter().zip(&self.loose_ids);
+                    let meets = meets.filter(|(c, _)| overlap(c, &q));
+                    near.extend(meets.map(|(_, &j)| j).filter(|&j| exact(j)));
                 } else {
                     self.found.clear();
                     self.loose_grid.overlapping_with(&b, &mut self.found);
-                    near.extend(
-                        self.found.iter().copied().filter(|&j| {
-                            j != i && boxes[j as usize].is_some_and(|c| c.overlaps(&b))
-                        }),
-                    );
+                    near.extend(self.found.iter().copied().filter(|&j| exact(j)));
                 }
                 near.sort_unstable();
                 near.dedup();
