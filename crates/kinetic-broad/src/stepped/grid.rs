@@ -226,8 +226,15 @@ impl SteppedGrid {
         } else {
             0.0
         };
-        let lo = self.cell_of(std::array::from_fn(|k| q[0][k] as f64 - half));
-        let hi = self.cell_of(std::array::from_fn(|k| q[1][k] as f64 + half));
+        let mut lo = self.cell_of(std::array::from_fn(|k| q[0][k] as f64 - half));
+        let mut hi = self.cell_of(std::array::from_fn(|k| q[1][k] as f64 + half));
+        if let Some((least, n)) = self.dense {
+            // Only the grid's own cells hold boxes.
+            for k in 0..3 {
+                lo[k] = lo[k].max(least[k]);
+                hi[k] = hi[k].min(least[k] + n[k] - 1);
+            }
+        }
         let cells = (0..3)
             .map(|k| hi[k].saturating_sub(lo[k]).saturating_add(1).max(0))
             .fold(1i64, |p, x| p.saturating_mul(x));
@@ -244,6 +251,12 @@ impl SteppedGrid {
         }
         for x in lo[0]..=hi[0] {
             for y in lo[1]..=hi[1] {
+                if self.dense.is_some() {
+                    // A row of cells along z lies in one run of the table.
+                    let (s, t) = (self.slot([x, y, lo[2]]), self.slot([x, y, hi[2]]));
+                    test(self.runs(s, t + 1));
+                    continue;
+                }
                 for z in lo[2]..=hi[2] {
                     test(self.run(self.slot([x, y, z])));
                 }

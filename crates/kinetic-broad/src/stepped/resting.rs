@@ -110,8 +110,8 @@ impl Resting {
         // (members no longer resting as filed, resting ones not filed).
         let filed_at = self.filed_at;
         let (mut resting, mut members, mut stale, mut lost) = (0, 0, 0, 0);
-        for i in 0..n {
-            let (rest, filed) = (rests(i), self.filed[i]);
+        for (i, &filed) in self.filed[..n].iter().enumerate() {
+            let rest = rests(i);
             let still = rest && (!filed || changed[i] < filed_at);
             resting += usize::from(rest);
             members += usize::from(filed);
