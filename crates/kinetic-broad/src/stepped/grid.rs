@@ -234,6 +234,10 @@ impl SteppedGrid {
                 lo[k] = lo[k].max(least[k]);
                 hi[k] = hi[k].min(least[k] + n[k] - 1);
             }
+            // A query wholly outside the grid meets none (a row's run must not reach past it).
+            if (0..3).any(|k| lo[k] > hi[k]) {
+                return;
+            }
         }
         let cells = (0..3)
             .map(|k| hi[k].saturating_sub(lo[k]).saturating_add(1).max(0))
