@@ -1,6 +1,6 @@
 //! Live pairs into avian's contact graph, filtered as avian's own broad phase filters them.
 
-use crate::view::AvianWorld;
+use crate::view::{AvianWorld, entity};
 use avian3d::collider_tree::{ColliderTreeProxyFlags, ColliderTreeType};
 use avian3d::collision::contact_types::ContactEdgeFlags;
 use avian3d::prelude::*;
@@ -18,16 +18,23 @@ pub(crate) fn add_overlapping(
     graph: &mut ContactGraph,
 ) -> u64 {
     let mut added = 0;
-    // The pairs come grouped by their first collider: it is read once a group.
+    // The pairs come grouped by their first collider: it is read once a group, and only
+    // for a pair the graph does not hold (most of them it does).
     let mut first = None;
     for &(a, b) in pairs {
+        let (Some(e1), Some(e2)) = (entity(a), entity(b)) else {
+            continue;
+        };
+        if graph.contains(e1, e2) {
+            continue;
+        }
         if first.is_none_or(|(k, _)| k != a) {
             first = Some((a, world.collider_view(a)));
         }
         let (Some(c1), Some(c2)) = (first.and_then(|f| f.1), world.collider_view(b)) else {
             continue;
         };
-        if graph.contains(c1.entity, c2.entity) || !c1.enlarged.intersects(&c2.enlarged.get()) {
+        if !c1.enlarged.intersects(&c2.enlarged.get()) {
             continue;
         }
         let (Some(k1), Some(k2)) = (c1.proxy, c2.proxy) else {

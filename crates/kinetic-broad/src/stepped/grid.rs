@@ -184,7 +184,7 @@ impl SteppedGrid {
     /// Calls `hit` with the id of each of the last call's boxes that overlaps `q` (a box may
     /// come more than once): the small boxes filed in the cells `q` reaches, and the wide
     /// ones from their own grid when they have one.
-    fn query(&self, q: &AabbF32, hit: &mut dyn FnMut(u32)) {
+    fn query(&self, q: &AabbF32, hit: &mut impl FnMut(u32)) {
         if self.swept {
             self.sweep
                 .query(&self.boxes, q, |j| hit(self.ids[j as usize]));
