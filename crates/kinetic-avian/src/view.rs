@@ -56,18 +56,44 @@ type BodyItem = (
     Has<Sleeping>,
 );
 
-/// Colliders added or changed (shape, body, layers), made sensors, or disabled.
-type ChangedFilter = (
-    With<Collider>,
-    Or<(
-        Added<Collider>,
-        Changed<Collider>,
-        Changed<ColliderOf>,
-        Changed<CollisionLayers>,
-        Added<Sensor>,
-        Added<ColliderDisabled>,
-    )>,
-);
+/// The colliders and bodies whose immutable components were inserted since the last step
+/// (a body, layers, a body type) or that were made sensors or disabled, as observers see
+/// them: no query then looks at every collider for these each step.
+#[derive(Resource, Default)]
+pub(crate) struct Inserted {
+    colliders: Vec<Entity>,
+    bodies: Vec<Entity>,
+}
+
+/// Notes the insertions the broad phase acts on (`ColliderOf`, `CollisionLayers`, `Sensor`,
+/// `ColliderDisabled` on colliders, `RigidBody` on bodies: each immutable or a marker, so an
+/// insertion is their only change).
+pub(crate) fn observe_insertions(app: &mut App) {
+    app.init_resource::<Inserted>();
+    app.add_observer(
+        |on: On<Insert<ColliderOf>>, mut inserted: ResMut<Inserted>| {
+            inserted.colliders.push(on.entity);
+        },
+    );
+    app.add_observer(
+        |on: On<Insert<CollisionLayers>>, mut inserted: ResMut<Inserted>| {
+            inserted.colliders.push(on.entity);
+        },
+    );
+    app.add_observer(|on: On<Add<Sensor>>, mut inserted: ResMut<Inserted>| {
+        inserted.colliders.push(on.entity);
+    });
+    app.add_observer(
+        |on: On<Add<ColliderDisabled>>, mut inserted: ResMut<Inserted>| {
+            inserted.colliders.push(on.entity);
+        },
+    );
+    app.add_observer(
+        |on: On<Insert<RigidBody>>, mut inserted: ResMut<Inserted>| {
+            inserted.bodies.push(on.entity);
+        },
+    );
+}
 
 /// Colliders that moved, and their bodies.
 type Placed = (Entity, Option<&'static ColliderOf>);
@@ -239,12 +265,14 @@ impl Engine for AvianWorld<'_, '_> {
 /// The changes since the last step, read through Bevy's change detection.
 #[derive(SystemParam)]
 pub(crate) struct Changes<'w, 's> {
-    /// Colliders added or changed (shape, body, layers), made sensors, or disabled.
-    changed: Query<'w, 's, Entity, ChangedFilter>,
+    /// Colliders added or whose shape changed (the one mutable component of those read).
+    changed: Query<'w, 's, Entity, (With<Collider>, Changed<Collider>)>,
+    /// Colliders and bodies whose other components were inserted.
+    inserted: ResMut<'w, Inserted>,
     /// Colliders that moved: those on static bodies (or none) were moved by the user.
     placed: Query<'w, 's, Placed, (With<Collider>, Changed<Position>)>,
-    /// Bodies whose type changed.
-    retyped: Query<'w, 's, &'static RigidBodyColliders, Changed<RigidBody>>,
+    /// The colliders of each body.
+    held: Query<'w, 's, &'static RigidBodyColliders>,
     /// Bodies that move and are awake.
     awake: Query<'w, 's, (&'static RigidBody, &'static RigidBodyColliders), Without<Sleeping>>,
     removed: RemovedComponents<'w, 's, Collider>,
@@ -262,6 +290,15 @@ impl Changes<'_, '_> {
         every: bool,
     ) -> (Vec<Key>, Vec<Key>, Vec<Key>) {
         let mut modified: Vec<Key> = self.changed.iter().map(key).collect();
+        // Those inserted on colliders still there, and the colliders of retyped bodies.
+        let inserted = &mut *self.inserted;
+        let there = |e: &Entity| world.all.contains(*e);
+        modified.extend(inserted.colliders.drain(..).filter(there).map(key));
+        for body in inserted.bodies.drain(..) {
+            if let Ok(colliders) = self.held.get(body) {
+                modified.extend(colliders.iter().map(key));
+            }
+        }
         let mut moved = Vec::new();
         // Between reads of every moved body, what avian's own box upkeep saw move: the
         // fixed colliders the user moved out of their enlarged boxes (one moved within its
@@ -283,9 +320,6 @@ impl Changes<'_, '_> {
                     moved.push(k);
                 }
             }
-        }
-        for colliders in &self.retyped {
-            modified.extend(colliders.iter().map(key));
         }
         modified.extend(self.enabled.read().map(key));
         modified.sort_unstable();

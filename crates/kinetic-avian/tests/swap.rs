@@ -431,3 +431,43 @@ fn joints_and_the_filter_hook_keep_pairs_apart_as_with_avians_broad_phase() {
         );
     }
 }
+
+#[test]
+fn layers_and_body_types_changed_midway_miss_no_pair() {
+    for broad in [Broad::Kinetic, Broad::LooseGrid(true)] {
+        changed_midway(broad);
+    }
+}
+
+fn changed_midway(broad: Broad) {
+    let mut app = app(broad);
+    rain(&mut app, 5, 60);
+    let bodies: Vec<Entity> = {
+        let mut q = app.world_mut().query_filtered::<Entity, With<RigidBody>>();
+        q.iter(app.world()).collect()
+    };
+    let apart = CollisionLayers::from_bits(0b10, 0b01);
+    for k in 0..160 {
+        let missing = step_missing(&mut app, 0.0);
+        assert!(missing.is_empty(), "{broad:?}, step {k}: {missing:?}");
+        match k {
+            // Every other body on a layer that meets only the ground, then back.
+            30 => bodies.iter().step_by(2).for_each(|&b| {
+                app.world_mut().entity_mut(b).insert(apart);
+            }),
+            60 => bodies.iter().step_by(2).for_each(|&b| {
+                app.world_mut()
+                    .entity_mut(b)
+                    .insert(CollisionLayers::default());
+            }),
+            // A few bodies held still, then let go.
+            90 => bodies.iter().skip(1).step_by(7).for_each(|&b| {
+                app.world_mut().entity_mut(b).insert(RigidBody::Static);
+            }),
+            120 => bodies.iter().skip(1).step_by(7).for_each(|&b| {
+                app.world_mut().entity_mut(b).insert(RigidBody::Dynamic);
+            }),
+            _ => {}
+        }
+    }
+}
