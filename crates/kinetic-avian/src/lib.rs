@@ -28,6 +28,10 @@
 //! those boxes ([`kinetic_broad::Engine::enlarged`]) and steps on them for good: each step
 //! it looks only at the colliders whose enlarged boxes avian moved (avian's
 //! `MovedProxies`), keeps each collider's pairs, and adds or deletes those that changed.
+//! Each moved box is looked up in avian's own collider trees, which avian keeps up to date
+//! for its queries whichever broad phase runs ([`kinetic_broad::Engine::enlarged_near`]), so
+//! the plugin keeps no index of its own beside them (a step that moves so many boxes that
+//! filing them all costs less files them in the core's grid instead).
 //! A heap of bodies jostling inside their boxes, or asleep, costs next to nothing, whatever
 //! the pairs it holds. Once a step, before avian's narrow phase, the pairs whose boxes
 //! overlap are *live*.

@@ -252,6 +252,34 @@ impl Engine for AvianWorld<'_, '_> {
             .then(|| Aabb::new(min, max))
     }
 
+    /// The colliders in avian's collider trees whose boxes overlap collider `c`'s there (its
+    /// enlarged box, rounded to single precision, grown by a little more than that rounding):
+    /// avian keeps the trees up to date for its queries whichever broad phase runs.
+    fn enlarged_near(&self, c: Key, out: &mut Vec<u32>) -> bool {
+        let proxy = entity(c)
+            .and_then(|e| self.colliders.get(e).ok())
+            .and_then(|item| item.7.copied());
+        let Some(proxy) = proxy else {
+            return true;
+        };
+        let tree = self.trees.tree_for_type(proxy.tree_type());
+        let Some(mut q) = tree.get_proxy_aabb(proxy.id()) else {
+            return true;
+        };
+        let pad = q.min.abs().max(q.max.abs()) * 1e-6 + 1e-30;
+        q.min -= pad;
+        q.max += pad;
+        for tree in self.trees.iter_trees() {
+            tree.aabb_traverse(q, |id| {
+                if let Some(p) = tree.get_proxy(id) {
+                    out.push(p.collider.index_u32());
+                }
+                true
+            });
+        }
+        true
+    }
+
     fn body(&self, b: Key) -> Option<BodyState> {
         let (_, pos, rot, com, v, sleeping) = self.bodies.get(entity(b)?).ok()?;
         Some(BodyState {

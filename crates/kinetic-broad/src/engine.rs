@@ -82,6 +82,17 @@ pub trait Engine {
         let _ = c;
         None
     }
+
+    /// The indices of the colliders whose enlarged boxes ([`Engine::enlarged`]) may overlap
+    /// collider `c`'s, pushed onto `out` (a superset: each is tested again; `c` itself may
+    /// come), from an index of those boxes that the engine keeps for its own use (avian's
+    /// collider trees). The stepped world then looks up each moved collider there instead
+    /// of filing the boxes again itself. The default, `false`: the engine keeps no such
+    /// index.
+    fn enlarged_near(&self, c: Key, out: &mut Vec<u32>) -> bool {
+        let _ = (c, out);
+        false
+    }
 }
 
 /// The engine's step.

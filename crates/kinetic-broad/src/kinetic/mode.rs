@@ -36,7 +36,9 @@
 //! good, on those boxes: it moves a box only when its collider leaves it and lists those
 //! colliders, so a stepped call costs in proportion to the boxes it moved, while a kinetic
 //! step reads every awake body to hold it to its plan. Its pairs are then exactly those its
-//! own broad phase would find.
+//! own broad phase would find. Where the engine also keeps an index of those boxes for its
+//! own queries ([`Engine::enlarged_near`], avian's collider trees), each moved box is looked
+//! up there rather than in a grid of the broad phase's own.
 //!
 //! The pairs the engine has are carried over at a switch: to the stepped grid's, with adds
 //! and deletes for the difference, and back to the kinetic book, which adopts those it holds
@@ -610,9 +612,14 @@ impl BroadPhaseCore {
             // The engine's enlarged boxes: the pairs of those it moved looked at again.
             let boxes = &st.boxes;
             let now = |i: u32| boxes.get(i as usize).copied().flatten().map(|(b, _)| b);
+            let proxies = &self.proxies;
+            let near = |i: u32, out: &mut Vec<u32>| {
+                let key = proxies.get(i as usize).copied().flatten().map(|p| p.key);
+                key.is_some_and(|k| engine.enlarged_near(k, out))
+            };
             st.new.clear();
             st.gone.clear();
-            enlarged.update(&st.touched, &now, &mut st.new, &mut st.gone);
+            enlarged.update(&st.touched, &now, &near, &mut st.new, &mut st.gone);
             st.enlarged = Some(enlarged);
             st.touched.clear();
             for &(a, b) in &st.new {

@@ -3,6 +3,11 @@
 //! boxes that changed in it, so a world whose bodies jostle inside their boxes costs next to
 //! nothing, however many pairs it holds.
 //!
+//! Where the engine keeps an index of these boxes for its own queries
+//! ([`crate::Engine::enlarged_near`]: avian's collider trees, kept up to date whichever broad
+//! phase runs), each changed box is looked up there, and nothing is filed, unless so many
+//! changed in one call that filing every box (below) costs less. Otherwise:
+//!
 //! The boxes are filed in a grid once ([`SteppedGrid`], for look-ups); a box that changes
 //! leaves the grid for a short list of *loose* boxes. Each changed box is looked up among
 //! the filed boxes that have not changed since and among the loose ones, and its pairs
@@ -66,6 +71,9 @@ pub(crate) struct EnlargedPairs {
     loose_work: usize,
     /// How many times every box was filed afresh.
     pub(crate) filings: u64,
+    /// Whether the engine keeps an index of the boxes that look-ups use instead of the grid
+    /// (not known before the first look-up).
+    engine_index: Option<bool>,
 }
 
 impl Default for EnlargedPairs {
@@ -91,6 +99,7 @@ impl Default for EnlargedPairs {
             filing_work: 0,
             loose_work: 0,
             filings: 0,
+            engine_index: None,
         }
     }
 }
@@ -167,11 +176,25 @@ impl EnlargedPairs {
         &mut self,
         changed: &[u32],
         boxes_now: &dyn Fn(u32) -> Option<Aabb>,
+        engine_near: &dyn Fn(u32, &mut Vec<u32>) -> bool,
         adds: &mut Vec<(u32, u32)>,
         deletes: &mut Vec<(u32, u32)>,
     ) {
         if let Some(&last) = changed.iter().max() {
             self.reach(last as usize);
+        }
+        if self.engine_index != Some(false) {
+            for &i in changed {
+                self.boxes[i as usize] = boxes_now(i);
+            }
+            if self.engine_index == Some(true) && changed.len() * LOOKUP_WORK > self.filing_work {
+                // So many changed that filing every box costs less than their look-ups.
+                self.file_all_and_diff(adds, deletes);
+                return;
+            }
+            if self.look_up_in_engine(changed, engine_near, adds, deletes) {
+                return;
+            }
         }
         for &i in changed {
             self.unfile(i as usize);
@@ -192,6 +215,50 @@ impl EnlargedPairs {
             self.loose_work += loose;
             self.look_up(changed, adds, deletes);
         }
+    }
+
+    /// Brings the pairs of each box of `changed` to those it overlaps now, looked up in the
+    /// engine's own index of the boxes ([`crate::Engine::enlarged_near`]); `false`, with
+    /// nothing done, if the engine keeps none.
+    fn look_up_in_engine(
+        &mut self,
+        changed: &[u32],
+        engine_near: &dyn Fn(u32, &mut Vec<u32>) -> bool,
+        adds: &mut Vec<(u32, u32)>,
+        deletes: &mut Vec<(u32, u32)>,
+    ) -> bool {
+        for &i in changed {
+            let mut near = std::mem::take(&mut self.near);
+            near.clear();
+            if let Some(b) = self.boxes[i as usize] {
+                self.found.clear();
+                if self.engine_index.is_none() {
+                    let has = engine_near(i, &mut self.found);
+                    self.engine_index = Some(has);
+                    if !has {
+                        self.near = near;
+                        return false;
+                    }
+                } else {
+                    engine_near(i, &mut self.found);
+                }
+                let boxes = &self.boxes;
+                let meets = |&j: &u32| j != i && boxes[j as usize].is_some_and(|c| c.overlaps(&b));
+                let found = self
+                    .found
+                    .iter()
+                    .copied()
+                    .filter(|&j| (j as usize) < boxes.len());
+                near.extend(found.filter(meets));
+                near.sort_unstable();
+                near.dedup();
+            }
+            self.set_partners(i, &near, adds, deletes);
+            self.near = near;
+        }
+        // What filing every box would cost now (its slots, for its boxes).
+        self.filing_work = self.boxes.len() + self.count;
+        true
     }
 
     /// Brings the pairs of each box of `changed` to those it overlaps now.
@@ -349,6 +416,14 @@ mod tests {
     /// pairs held, and those the adds and deletes build, are always those of every box.
     #[test]
     fn the_pairs_are_those_of_every_box_as_a_few_boxes_change_each_call() {
+        for engine_index in [false, true] {
+            pairs_as_boxes_change(engine_index);
+        }
+    }
+
+    /// With `engine_index`, the look-ups ask an index of the engine's (here: the boxes that
+    /// overlap, rounded out, and every tenth box besides, as a superset).
+    fn pairs_as_boxes_change(engine_index: bool) {
         let mut s = 11u64;
         let n = 500;
         let mut boxes: Vec<Option<Aabb>> = (0..n)
@@ -382,7 +457,24 @@ mod tests {
             }
             adds.clear();
             deletes.clear();
-            pairs.update(&changed, &|i| boxes[i as usize], &mut adds, &mut deletes);
+            let near = |i: u32, out: &mut Vec<u32>| {
+                let Some(b) = boxes[i as usize] else {
+                    return engine_index;
+                };
+                let grown = b.grown(Vec3::splat(1e-6));
+                let near = (0..n as u32).filter(|&j| {
+                    j % 10 == 0 || boxes[j as usize].is_some_and(|c| c.overlaps(&grown))
+                });
+                out.extend(near);
+                engine_index
+            };
+            pairs.update(
+                &changed,
+                &|i| boxes[i as usize],
+                &near,
+                &mut adds,
+                &mut deletes,
+            );
             for p in &deletes {
                 assert!(built.remove(p), "call {call}: {p:?} deleted, not held");
             }
@@ -406,11 +498,17 @@ mod tests {
                 assert!(pairs.has(a, b) && pairs.has(b, a));
             }
         }
-        assert!(
-            pairs.filings >= 3 && pairs.filings < 30,
-            "{}",
-            pairs.filings
-        );
+        if engine_index {
+            // Filed only when most boxes changed at once (calls 20 and 41); else looked up
+            // in the engine's index.
+            assert_eq!(pairs.filings, 2);
+        } else {
+            assert!(
+                pairs.filings >= 3 && pairs.filings < 30,
+                "{}",
+                pairs.filings
+            );
+        }
         // A box dropped without a word takes its pairs with it.
         let i = (0..n)
             .find(|&i| !pairs.partners[i].is_empty())
