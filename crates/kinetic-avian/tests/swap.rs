@@ -74,8 +74,8 @@ fn kinematic_bodies_touch_as_with_avians_broad_phase() {
 }
 
 /// A draw of the engine scene space: columns of boxes, most asleep, a few bodies dropped and
-/// fast ones flying through. The broad phase steps, looks up only the moving boxes each step
-/// in avian's own collider trees (it files no boxes of its own), and misses no pair.
+/// fast ones flying through. The broad phase steps, looks up the moving boxes each step in
+/// avian's own collider trees, and misses no pair.
 #[test]
 fn a_mostly_sleeping_stack_looks_up_its_moving_boxes_in_avians_trees_and_misses_no_pair() {
     let draw = kinetic_scenes::engines::space::draw(13);
@@ -90,8 +90,7 @@ fn a_mostly_sleeping_stack_looks_up_its_moving_boxes_in_avians_trees_and_misses_
         assert!(missing.is_empty(), "step {k}: {missing:?}");
     }
     let stats = kinetic(&ours).stats();
-    assert_eq!(stats.rest_filings, 0, "{stats:?}");
-    assert!(stats.added > 0, "{stats:?}");
+    assert!(stats.engine_lookups > 0 && stats.added > 0, "{stats:?}");
     assert_eq!(kinetic(&ours).structure_name(), "stepped");
 }
 

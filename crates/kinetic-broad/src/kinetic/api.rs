@@ -95,6 +95,7 @@ impl BroadPhaseCore {
                 fat_filings: self.stats.fat_filings + filings,
                 refattened: self.stats.refattened + refattened,
                 rest_filings: self.stats.rest_filings + st.rest_filings(),
+                engine_lookups: self.stats.engine_lookups + st.engine_lookups(),
                 ..self.stats
             };
         }

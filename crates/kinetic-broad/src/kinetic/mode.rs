@@ -246,6 +246,11 @@ impl Stepped {
         self.resting.filings + self.enlarged.as_ref().map_or(0, |e| e.filings)
     }
 
+    /// Enlarged boxes looked up in the engine's own index.
+    pub(super) fn engine_lookups(&self) -> u64 {
+        self.enlarged.as_ref().map_or(0, |e| e.engine_lookups)
+    }
+
     /// Whether this position update's re-plans price a kinetic step.
     fn counting(&self) -> bool {
         self.updates % self.price_every() == 2
@@ -509,6 +514,7 @@ impl BroadPhaseCore {
         self.stats.fat_filings += filings;
         self.stats.refattened += refattened;
         self.stats.rest_filings += st.rest_filings();
+        self.stats.engine_lookups += st.engine_lookups();
         self.adopting = Some(st.into_pairs());
         self.clock.kds = self.clock.pos;
         // Bodies at rest are held by fat boxes again.

@@ -38,6 +38,9 @@ pub struct BroadPhaseStats {
     /// rest and only the moving ones are filed each step; on an engine's enlarged boxes, times
     /// all its boxes were.
     pub rest_filings: u64,
+    /// Stepped on an engine's enlarged boxes: boxes looked up in the engine's own index of
+    /// them ([`crate::Engine::enlarged_near`]) rather than filed.
+    pub engine_lookups: u64,
 }
 
 /// Figures over the last physics step.
