@@ -70,29 +70,18 @@ pub(crate) struct Inserted {
 /// insertion is their only change).
 pub(crate) fn observe_insertions(app: &mut App) {
     app.init_resource::<Inserted>();
-    app.add_observer(
-        |on: On<Insert<ColliderOf>>, mut inserted: ResMut<Inserted>| {
-            inserted.colliders.push(on.entity);
-        },
-    );
-    app.add_observer(
-        |on: On<Insert<CollisionLayers>>, mut inserted: ResMut<Inserted>| {
-            inserted.colliders.push(on.entity);
-        },
-    );
-    app.add_observer(|on: On<Add<Sensor>>, mut inserted: ResMut<Inserted>| {
-        inserted.colliders.push(on.entity);
-    });
-    app.add_observer(
-        |on: On<Add<ColliderDisabled>>, mut inserted: ResMut<Inserted>| {
-            inserted.colliders.push(on.entity);
-        },
-    );
-    app.add_observer(
-        |on: On<Insert<RigidBody>>, mut inserted: ResMut<Inserted>| {
-            inserted.bodies.push(on.entity);
-        },
-    );
+    macro_rules! note {
+        ($event:ty, $list:ident) => {
+            app.add_observer(|on: On<$event>, mut inserted: ResMut<Inserted>| {
+                inserted.$list.push(on.entity);
+            });
+        };
+    }
+    note!(Insert<ColliderOf>, colliders);
+    note!(Insert<CollisionLayers>, colliders);
+    note!(Add<Sensor>, colliders);
+    note!(Add<ColliderDisabled>, colliders);
+    note!(Insert<RigidBody>, bodies);
 }
 
 /// Colliders that moved, and their bodies.
