@@ -106,6 +106,12 @@ fn steps_missing_none(app: &mut App, steps: usize, what: &str) -> usize {
     touching_seen
 }
 
+/// Every rigid body, in the world's order.
+fn bodies(world: &mut World) -> Vec<Entity> {
+    let mut q = world.query_filtered::<Entity, With<RigidBody>>();
+    q.iter(world).collect()
+}
+
 /// Balls and boxes dropped in layers onto a ground.
 fn rain(app: &mut App, seed: u64, n: usize) {
     ground(app);
@@ -271,10 +277,7 @@ fn colliders_come_and_go_and_are_disabled() {
 fn come_and_go(broad: Broad) {
     let mut ours = app(broad);
     rain(&mut ours, 3, 60);
-    let bodies: Vec<Entity> = {
-        let mut q = ours.world_mut().query_filtered::<Entity, With<RigidBody>>();
-        q.iter(ours.world()).collect()
-    };
+    let bodies = bodies(ours.world_mut());
     for k in 0..180 {
         let missing = step_missing(&mut ours, 0.0);
         // A collider enabled again has its box refreshed during its first step back: avian's
@@ -442,10 +445,7 @@ fn layers_and_body_types_changed_midway_miss_no_pair() {
 fn changed_midway(broad: Broad) {
     let mut app = app(broad);
     rain(&mut app, 5, 60);
-    let bodies: Vec<Entity> = {
-        let mut q = app.world_mut().query_filtered::<Entity, With<RigidBody>>();
-        q.iter(app.world()).collect()
-    };
+    let bodies = bodies(app.world_mut());
     let apart = CollisionLayers::from_bits(0b10, 0b01);
     for k in 0..160 {
         let missing = step_missing(&mut app, 0.0);
