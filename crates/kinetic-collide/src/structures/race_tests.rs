@@ -1,0 +1,235 @@
+//! The race's tests: its choices on worlds whose structures run at set paces.
+
+use super::*;
+use crate::scene::SceneObject;
+use glam::DVec3;
+use kinetic_core::WorldKind;
+
+/// `n` balls in a row, for a horizon of 100.
+fn scene(n: usize) -> Scene {
+    let ball = |i: usize| SceneObject::ball(0.5, DVec3::new(2.0 * i as f64, 0.0, 0.0), DVec3::X);
+    Scene {
+        world: WorldKind::Free,
+        horizon: 100.0,
+        response: Response::None,
+        walls: None,
+        periodic: None,
+        objects: (0..n).map(ball).collect(),
+    }
+}
+
+/// Runs a race in which each structure costs `pace` wall seconds per unit of simulated
+/// time and each build `build` seconds; returns its slices.
+fn run(race: &mut Race, pace: impl Fn(Structure) -> f64, build: f64) -> Vec<Slice> {
+    run_with(race, |s, from, to, _| pace(s) * (to - from), build)
+}
+
+/// [`run`] with the wall seconds of each slice given by `wall(structure, from, to,
+/// built)`, `built` the simulated time the structure was built at.
+fn run_with(
+    race: &mut Race,
+    wall: impl Fn(Structure, f64, f64, f64) -> f64,
+    build: f64,
+) -> Vec<Slice> {
+    let mut now = 0.0;
+    let mut built = 0.0;
+    while now < 100.0 {
+        let to = race.slice_end(now);
+        assert!(to > now, "the race stalls at {now}");
+        let wall = wall(race.current(), now, to, built);
+        if race
+            .slice_done(now, to, wall, &mut |s| {
+                // The brute force's 2,000 objects at 0.1 us a pair.
+                if s == Structure::BruteForce {
+                    0.2
+                } else {
+                    build
+                }
+            })
+            .is_some()
+        {
+            race.switched(build);
+            built = to;
+        }
+        now = to;
+    }
+    std::mem::replace(race, Race::new(&scene(2), Structure::Grid, 0.0)).into_slices()
+}
+
+fn paces(s: Structure) -> f64 {
+    match s {
+        Structure::Grid => 0.01,
+        Structure::Sweep => 0.05,
+        Structure::LooseGrid => 0.2,
+        _ => 1.0,
+    }
+}
+
+#[test]
+fn the_race_ends_on_the_fastest_within_its_share() {
+    let mut race = Race::new(&scene(2000), Structure::Sweep, 0.001);
+    let slices = run(&mut race, paces, 0.001);
+    assert_eq!(slices.last().unwrap().structure, Structure::Grid);
+    // The slices cover the run, in order.
+    assert_eq!(slices[0].from, 0.0);
+    assert_eq!(slices.last().unwrap().to, 100.0);
+    assert!(slices.windows(2).all(|w| w[0].to == w[1].from));
+    // What the run cost beyond the grid's own run: the sweep measured, the trials and
+    // their builds, within the share of the grid's run and the measurement before it.
+    let total: f64 = slices.iter().map(|s| s.wall_seconds).sum();
+    let grid_alone = paces(Structure::Grid) * 100.0;
+    assert!(
+        total < grid_alone * (1.0 + SHARE) + 4.0 * LEAST_WALL,
+        "{total} {slices:?}"
+    );
+}
+
+#[test]
+fn a_slow_trial_is_cut_short_and_the_leader_kept() {
+    // The grid leads from the start; every other structure is slower.
+    let mut race = Race::new(&scene(2000), Structure::Grid, 0.001);
+    let slices = run(&mut race, paces, 0.0);
+    assert_eq!(slices.last().unwrap().structure, Structure::Grid);
+    // What the trials cost beyond the grid's pace on their slices.
+    let grid = paces(Structure::Grid);
+    let trials: f64 = slices
+        .iter()
+        .filter(|s| s.structure != Structure::Grid)
+        .map(|s| s.wall_seconds - grid * (s.to - s.from))
+        .sum();
+    assert!(trials > 0.0, "nothing was tried: {slices:?}");
+    assert!(trials < SHARE * grid * 100.0, "{trials} {slices:?}");
+}
+
+#[test]
+fn an_open_race_ends_on_the_fastest_within_its_share_of_the_run_so_far() {
+    // A world of 2,000 objects advanced by 1/60 at a time, starting on the sweep.
+    let mut race = Race::open(Structure::Sweep, 2000, true, 1.0 / 60.0);
+    let mut now = 0.0;
+    for k in 1..=6000 {
+        let t = k as f64 / 60.0;
+        loop {
+            let planned = race.slice_end(now);
+            assert!(planned > now, "the race stalls at {now}");
+            if planned > t {
+                // The slice goes on at the next call.
+                break;
+            }
+            // A slice past its wall-clock limit stops there, as a world's does.
+            let pace = paces(race.current());
+            let limit = race.wall_limit(planned).unwrap_or(f64::INFINITY);
+            let to = planned.min(now + limit / pace);
+            let wall = pace * (to - now);
+            if race.slice_done(now, to, wall, &mut |_| 0.001).is_some() {
+                race.switched(0.001);
+            }
+            now = to;
+        }
+    }
+    let all = race.into_slices();
+    // Most of the run on the grid, from early on.
+    let on = |s: Structure| -> f64 {
+        all.iter()
+            .filter(|x| x.structure == s)
+            .map(|x| x.to - x.from)
+            .sum()
+    };
+    let end = all.last().unwrap().to;
+    assert!(on(Structure::Grid) > 0.95 * end, "{all:?}");
+    // Left within the first 60 calls.
+    assert!(on(Structure::Sweep) < 1.0, "{all:?}");
+    assert!(all.windows(2).all(|w| w[0].to == w[1].from));
+    // What the race cost beyond the grid's pace: within twice the share of the grid's
+    // run (the budget is a share of twice the run so far).
+    let total: f64 = all.iter().map(|s| s.wall_seconds).sum();
+    let grid_alone = paces(Structure::Grid) * end;
+    assert!(
+        total < paces(Structure::Sweep) * end.min(1.0) + grid_alone * (1.0 + 2.0 * SHARE),
+        "{total} against {grid_alone}: {all:?}"
+    );
+}
+
+#[test]
+fn the_leaders_pace_is_measured_no_longer_than_its_build_took() {
+    let mut race = Race::new(&scene(5000), Structure::Sweep, 0.01);
+    let planned = race.slice_end(0.0);
+    assert_eq!(race.wall_limit(planned), Some(0.01));
+    // Cut at its limit halfway, the slice ends the measurement: the trials begin.
+    let next = race.slice_done(0.0, planned / 2.0, 0.01, &mut |_| 0.001);
+    assert_eq!(next, Some(Structure::Grid));
+}
+
+#[test]
+fn a_runner_up_far_slower_than_the_leader_is_not_tried_again() {
+    // On the grid, the sweep runs at 5 times its pace and the others slower still.
+    let mut race = Race::new(&scene(5000), Structure::Grid, 0.001);
+    let slices = run_with(&mut race, |s, from, to, _| paces(s) * (to - from), 0.001);
+    let trials = |s: Structure| {
+        let on = slices.iter().filter(|x| x.structure == s);
+        on.filter(|x| x.build_seconds > 0.0).count()
+    };
+    assert_eq!(trials(Structure::Sweep), 1, "{slices:?}");
+    assert_eq!(slices.last().unwrap().structure, Structure::Grid);
+}
+
+#[test]
+fn a_structure_whose_work_comes_in_bursts_is_measured_over_one() {
+    // The loose grid re-files every object 10 units after it was built: nothing before,
+    // then a burst of 2 s (0.2 a unit on the whole, four times the sweep's 0.05). A trial
+    // of a few units would see it free.
+    let bursts = |s: Structure, from: f64, to: f64, built: f64| match s {
+        Structure::LooseGrid => {
+            let done = |t: f64| ((t - built) / 10.0).floor();
+            2.0 * (done(to) - done(from))
+        }
+        _ => paces(s) * (to - from),
+    };
+    let mut race = Race::new(&scene(5000), Structure::Sweep, 0.001);
+    let slices = run_with(&mut race, bursts, 0.001);
+    assert_eq!(
+        slices.last().unwrap().structure,
+        Structure::Grid,
+        "{slices:?}"
+    );
+    let loose: f64 = slices
+        .iter()
+        .filter(|s| s.structure == Structure::LooseGrid)
+        .map(|s| s.to - s.from)
+        .sum();
+    assert!(loose < 25.0, "{slices:?}");
+}
+
+#[test]
+fn the_leader_is_paced_once_warm() {
+    // The grid runs its first 0.03 units at ten times its pace (cold caches, a queue
+    // still growing), a tenth as long as its build; the sweep, twice the grid's warm
+    // pace, is faster than that.
+    let cold = |s: Structure, from: f64, to: f64, _| match s {
+        Structure::Grid => {
+            let cold = (to.min(0.03) - from.min(0.03)).max(0.0);
+            0.01 * (to - from) + 0.09 * cold
+        }
+        Structure::Sweep => 0.02 * (to - from),
+        _ => (to - from),
+    };
+    let mut race = Race::new(&scene(5000), Structure::Grid, 0.01);
+    let slices = run_with(&mut race, cold, 0.01);
+    let on_grid: f64 = slices
+        .iter()
+        .filter(|s| s.structure == Structure::Grid)
+        .map(|s| s.to - s.from)
+        .sum();
+    assert!(on_grid > 90.0, "{slices:?}");
+    assert_eq!(slices.last().unwrap().structure, Structure::Grid);
+}
+
+#[test]
+fn one_structure_makes_no_race() {
+    let mut periodic = scene(10);
+    periodic.periodic = Some(kinetic_spheres::PeriodicBox {
+        min: DVec3::ZERO,
+        max: DVec3::splat(100.0),
+    });
+    let race = Race::new(&periodic, Structure::Periodic, 0.0);
+    assert_eq!(race.slice_end(0.0), 100.0);
+}
