@@ -233,3 +233,43 @@ fn one_structure_makes_no_race() {
     let race = Race::new(&periodic, Structure::Periodic, 0.0);
     assert_eq!(race.slice_end(0.0), 100.0);
 }
+
+#[test]
+fn a_runner_up_faster_than_the_leader_has_become_is_tried_outside_the_budget() {
+    // The loose grid runs at 0.01 a unit until 10, then at 0.03; the grid at 0.02 throughout.
+    // The loose grid's rebuild (0.2) spends the budget, so only the paces can pay for a
+    // trial of the grid once the loose grid has slowed.
+    let pace = |s: Structure, t: f64| match s {
+        Structure::LooseGrid if t < 10.0 => 0.01,
+        Structure::LooseGrid => 0.03,
+        Structure::Grid => 0.02,
+        Structure::Sweep => 0.05,
+        _ => 1.0,
+    };
+    let build = |s: Structure| if s == Structure::Grid { 0.01 } else { 0.2 };
+    let mut race = Race::new(&scene(5000), Structure::LooseGrid, 0.001);
+    let mut now = 0.0;
+    while now < 100.0 {
+        let to = race.slice_end(now);
+        assert!(to > now, "the race stalls at {now}");
+        // Paces change at 10 only: the slices are cut there.
+        let s = race.current();
+        let wall = if now < 10.0 && to > 10.0 {
+            pace(s, now) * (10.0 - now) + pace(s, 10.0) * (to - 10.0)
+        } else {
+            pace(s, now) * (to - now)
+        };
+        if let Some(next) = race.slice_done(now, to, wall, &mut |s| build(s)) {
+            race.switched(build(next));
+        }
+        now = to;
+    }
+    let slices = race.into_slices();
+    let on_grid: f64 = slices
+        .iter()
+        .filter(|x| x.structure == Structure::Grid && x.from >= 10.0)
+        .map(|x| x.to - x.from)
+        .sum();
+    assert!(on_grid > 50.0, "{slices:?}");
+    assert_eq!(slices.last().unwrap().structure, Structure::Grid);
+}
