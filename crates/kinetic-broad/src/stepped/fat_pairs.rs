@@ -299,8 +299,11 @@ impl FatPairs {
         self.ready = true;
         self.fat.clear();
         let (carry, drift) = (self.carry, self.drift);
-        self.fat
-            .extend(boxes.iter().map(|b| b.map(|b| fatten(b, carry, drift, ahead))));
+        self.fat.extend(
+            boxes
+                .iter()
+                .map(|b| b.map(|b| fatten(b, carry, drift, ahead))),
+        );
         self.left.clear();
         self.left.resize(boxes.len(), 0);
         self.refat.clear();

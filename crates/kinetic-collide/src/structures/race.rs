@@ -500,9 +500,12 @@ impl Race {
             return 2.0 * build < (1.0 - MARGIN - self.contact_share) * self.pace * rest;
         }
         let leader = self.known_build(self.leader).unwrap_or(0.0);
-        self.paces.iter().find(|p| p.0 == next).is_some_and(|&(_, pace)| {
-            2.0 * build + leader < ((1.0 - MARGIN) * self.pace - pace) * rest
-        })
+        self.paces
+            .iter()
+            .find(|p| p.0 == next)
+            .is_some_and(|&(_, pace)| {
+                2.0 * build + leader < ((1.0 - MARGIN) * self.pace - pace) * rest
+            })
     }
 
     /// What the trials may cost: a share of the run's time at the leader's pace.
