@@ -24,16 +24,15 @@
 //! alike overlap as before, so no pair is lost.
 //!
 //! Fat boxes pay where they last: debris, a burst flying apart, kinematic bodies on their
-//! paths, a small pile once it has settled, bodies falling together. In a settling pile or a gas bodies are pushed
-//! out of their fat boxes at once: there each step finds the pairs from scratch. Fat boxes
-//! are tried only once the boxes move steadily (bodies falling together would leave them
-//! within a few steps). A call's work with fat boxes is counted against finding its pairs
-//! from scratch; fat boxes filed afresh fewer than [`MIN_LIFE`] calls after the last time,
-//! or costing more, are tried again only after [`FIRST_WAIT`] calls, then twice as many each
-//! time they fail, up to [`LAST_WAIT`].
+//! paths, a small pile once it has settled, bodies falling together. In a settling pile or a
+//! gas bodies are pushed out of their fat boxes at once: there each step finds the pairs from
+//! scratch. Fat boxes are tried only once the boxes move steadily, in either frame. A call's
+//! work with fat boxes is counted against finding its pairs from scratch; fat boxes filed
+//! afresh fewer than [`MIN_LIFE`] calls after the last time, or costing more, are tried
+//! again only after [`FIRST_WAIT`] calls, then twice as many each time they fail, up to
+//! [`LAST_WAIT`].
 
-use super::SteppedGrid;
-use super::typical_move;
+use super::{SteppedGrid, typical_move};
 use crate::aabb::{Aabb, AabbF32, overlap, overlapping, to_f32};
 use kinetic_core::{Real, Vec3};
 
