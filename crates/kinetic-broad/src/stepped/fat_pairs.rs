@@ -26,8 +26,13 @@
 //! Fat boxes pay where they last: debris, a burst flying apart, kinematic bodies on their
 //! paths, a small pile once it has settled, bodies falling together. In a settling pile or a
 //! gas bodies are pushed out of their fat boxes at once: there each step finds the pairs from
-//! scratch. Fat boxes are tried only once the boxes move steadily, in either frame. A call's
-//! work with fat boxes is counted against finding its pairs from scratch; fat boxes filed
+//! scratch. Fat boxes are tried only once the boxes move steadily, in either frame, or once
+//! they are seen to stay in place: while the pairs are found from scratch each box keeps a
+//! trial fat box of its own (no grid, no pairs), and where few boxes leave theirs a call (a
+//! stack whose bodies tremble in their contacts, with a few bullets through it) fat boxes
+//! would last whatever the moves say. What a call with fat boxes takes is timed against what
+//! finding its pairs from scratch took when last timed (either way gives the same pairs, so
+//! the clock changes no result); fat boxes filed
 //! afresh fewer than [`MIN_LIFE`] calls after the last time, or costing more, are tried
 //! again only after [`FIRST_WAIT`] calls, then twice as many each time they fail, up to
 //! [`LAST_WAIT`].
@@ -35,6 +40,7 @@
 use super::{SteppedGrid, typical_move};
 use crate::aabb::{Aabb, AabbF32, overlap, overlapping, to_f32};
 use kinetic_core::{Real, Vec3};
+use std::time::Instant;
 
 /// A fat box covers at least this many steps of its box's move...
 const AHEAD: Real = 16.0;
@@ -88,9 +94,18 @@ pub(crate) struct FatPairs {
     /// Per index, the box's move at the last call.
     last_moves: Vec<Option<Vec3>>,
     /// The work of a call with fat boxes, and of one finding the pairs from scratch,
-    /// averaged over about [`SMOOTHING`] calls (in boxes filed).
+    /// averaged over about [`SMOOTHING`] calls (in boxes filed: the same on every run, for
+    /// [`FatPairs::work`]).
     work: Real,
     plain_work: Real,
+    /// What a call with fat boxes took, and what finding its pairs from scratch would have
+    /// (its boxes and pairs at the pace measured when they were last found so), averaged
+    /// over about [`SMOOTHING`] calls, in nanoseconds: whether fat boxes pay is measured
+    /// (either way gives the same pairs). The pace: nanoseconds a box filed, a pair found
+    /// counting [`TEST_WORK`] of one.
+    took: Real,
+    plain_took: Real,
+    plain_pace: Option<Real>,
     /// The steps of its move a fat box covers, and the candidates a step covered at the
     /// last filing.
     ahead: Real,
@@ -110,6 +125,12 @@ pub(crate) struct FatPairs {
     last_typical: Option<Vec3>,
     steadier_riding: bool,
     sample: Vec<Real>,
+    /// While the pairs are found from scratch: per index, a trial fat box (swept in the
+    /// frame passed), and the boxes that left theirs a call, averaged over about
+    /// [`SMOOTHING`] calls, with the calls counted.
+    trial: Vec<Option<Aabb>>,
+    trial_leaving: Real,
+    trial_calls: u64,
     /// Scratch: the indices leaving their fat boxes this call, and the pairs they gain.
     leaving: Vec<u32>,
     gained: Vec<(u32, u32)>,
@@ -151,10 +172,11 @@ impl FatPairs {
         };
         let boxes = &Swept { boxes, frame };
         self.calls += 1;
+        let start = Instant::now();
         // The moves are compared from call to call only while fat boxes do not hold.
         let steady = self.ready || self.steady(boxes, typical, last_typical);
         if self.calls < self.plain_until || !steady {
-            self.plain(boxes, keep, out);
+            self.plain(boxes, keep, out, start);
             return;
         }
         let refattened = self.refattened;
@@ -162,12 +184,12 @@ impl FatPairs {
         let mut work =
             boxes.len() as Real * CHECK_WORK + (self.refattened - refattened) as Real * QUERY_WORK;
         if !kept {
-            let pays = self.work <= self.plain_work;
+            let pays = self.took <= self.plain_took;
             if self.ready && (self.calls - self.built < MIN_LIFE || !pays) {
                 // They did not last: from scratch for a while.
                 self.wait = (2 * self.wait).clamp(FIRST_WAIT, LAST_WAIT);
                 self.plain_until = self.calls + self.wait;
-                self.plain(boxes, keep, out);
+                self.plain(boxes, keep, out, start);
                 return;
             }
             if self.ready {
@@ -208,6 +230,10 @@ impl FatPairs {
         let plain = boxes.len() as Real + out.len() as Real * TEST_WORK;
         self.work += (work - self.work) / SMOOTHING;
         self.plain_work += (plain - self.plain_work) / SMOOTHING;
+        let took = start.elapsed().as_nanos() as Real;
+        self.took += (took - self.took) / SMOOTHING;
+        let plain_took = plain * self.plain_pace.unwrap_or(took / plain);
+        self.plain_took += (plain_took - self.plain_took) / SMOOTHING;
     }
 
     /// Whether fat boxes hold the pairs now.
@@ -243,7 +269,10 @@ impl FatPairs {
         // How the typical box's move changed: the frame riding with it turned by that much.
         let turn = last.map_or(Vec3::ZERO, |u| typical - u);
         let (mut unsteady, mut unsteady_riding) = (0, 0);
-        for (b, last) in boxes.boxes.iter().zip(&mut self.last_moves) {
+        self.trial.resize(boxes.len(), None);
+        let mut leaving = 0;
+        let moves = boxes.boxes.iter().zip(&mut self.last_moves);
+        for ((b, last), trial) in moves.zip(&mut self.trial) {
             if let (Some((b, d)), Some(d0)) = (b, *last) {
                 // The swept box's width.
                 let width = (b.max - b.min + (*d - boxes.frame).abs()).max_element();
@@ -252,13 +281,37 @@ impl FatPairs {
                 unsteady_riding += usize::from((change - turn).length() * reach > MARGIN * width);
             }
             *last = b.map(|b| b.1);
+            // The trial fat box: kept while the swept box stays inside it.
+            let swept = boxes.sweep(*b);
+            let stays = match (swept, *trial) {
+                (Some((b, _)), Some(fat)) => b.inside(&fat),
+                (None, None) => true,
+                _ => false,
+            };
+            if !stays {
+                leaving += usize::from(trial.is_some());
+                *trial = swept.map(|b| fatten(b, Vec3::ZERO, Vec3::ZERO, AHEAD));
+            }
         }
         self.steadier_riding = unsteady_riding < unsteady;
-        compared && unsteady.min(unsteady_riding) * MOVED_SHARE <= boxes.len()
+        self.trial_calls += 1;
+        self.trial_leaving += (leaving as Real - self.trial_leaving) / SMOOTHING;
+        // Fat boxes last [`MIN_LIFE`] calls where fewer than one box in `MOVED_SHARE` leaves
+        // in that many.
+        let stay = self.trial_calls >= SMOOTHING as u64
+            && self.trial_leaving * (MOVED_SHARE as u64 * MIN_LIFE) as Real <= boxes.len() as Real;
+        compared && (stay || unsteady.min(unsteady_riding) * MOVED_SHARE <= boxes.len())
     }
 
-    /// The pairs found from scratch: fat boxes no longer hold.
-    fn plain(&mut self, boxes: &Swept, keep: &dyn Fn(u32, u32) -> bool, out: &mut Vec<(u32, u32)>) {
+    /// The pairs found from scratch (fat boxes do not hold), in a call that started at
+    /// `start`: its pace is measured.
+    fn plain(
+        &mut self,
+        boxes: &Swept,
+        keep: &dyn Fn(u32, u32) -> bool,
+        out: &mut Vec<(u32, u32)>,
+        start: Instant,
+    ) {
         if self.ready {
             self.ready = false;
             self.grid.remeasure();
@@ -266,6 +319,10 @@ impl FatPairs {
         let items = boxes.iter().enumerate();
         let items = items.filter_map(|(i, b)| Some((i as u32, b?.0)));
         self.grid.pairs(items, keep, out);
+        let units = boxes.len() as Real + out.len() as Real * TEST_WORK;
+        let pace = start.elapsed().as_nanos() as Real / units.max(1.0);
+        let last = self.plain_pace.unwrap_or(pace);
+        self.plain_pace = Some(last + (pace - last) / SMOOTHING);
     }
 
     /// Every box given a fat box, filed afresh, and the pairs of fat boxes found; the
@@ -276,7 +333,13 @@ impl FatPairs {
             // the boxes were steadier in.
             self.work = 0.0;
             self.plain_work = 0.0;
+            self.took = 0.0;
+            self.plain_took = 0.0;
             self.ride = self.steadier_riding;
+            // Trial fat boxes count afresh once these no longer hold.
+            self.trial.clear();
+            self.trial_leaving = 0.0;
+            self.trial_calls = 0;
         }
         self.drift = Vec3::ZERO;
         self.carry = if self.ride { typical } else { Vec3::ZERO };
@@ -445,252 +508,5 @@ fn behind(b: &Aabb, drift: Vec3) -> Aabb {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::aabb::{next, next_vec};
-
-    /// One call of `kept` against the pairs the grid finds afresh from the same boxes swept
-    /// in `frame`: the same pairs, of which it returns how many.
-    fn same_as_fresh(
-        kept: &mut FatPairs,
-        fresh: &mut SteppedGrid,
-        boxes: &[Option<(Aabb, Vec3)>],
-        frame: Vec3,
-        keep: &dyn Fn(u32, u32) -> bool,
-        call: usize,
-    ) -> usize {
-        let (mut got, mut want) = (Vec::new(), Vec::new());
-        kept.pairs(boxes, frame, keep, &mut got);
-        let swept = Swept { boxes, frame };
-        let items = swept
-            .iter()
-            .enumerate()
-            .filter_map(|(i, b)| Some((i as u32, b?.0)));
-        fresh.pairs(items, keep, &mut want);
-        assert_eq!(got, want, "call {call}");
-        want.len()
-    }
-
-    /// `calls` calls of fat pairs on the boxes `boxes_at(call)` gives, each against the
-    /// grid's pairs found afresh (no frame, every pair kept): the fat pairs after them and
-    /// the pairs found in all.
-    fn run_calls(
-        calls: usize,
-        mut boxes_at: impl FnMut(usize) -> Vec<Option<(Aabb, Vec3)>>,
-    ) -> (FatPairs, usize) {
-        let (mut kept, mut fresh, mut met) = (FatPairs::default(), SteppedGrid::default(), 0);
-        for call in 0..calls {
-            let boxes = boxes_at(call);
-            let keep = |_, _| true;
-            met += same_as_fresh(&mut kept, &mut fresh, &boxes, Vec3::ZERO, &keep, call);
-        }
-        (kept, met)
-    }
-
-    /// Boxes flying apart and boxes jostling in a heap, over many calls, with boxes coming
-    /// and going and one that turns about: the kept pairs are the grid's own every call,
-    /// and the fat boxes are found afresh far fewer times than there are calls.
-    #[test]
-    fn kept_pairs_are_the_grids_own_at_every_call() {
-        let mut s = 3;
-        let n = 300;
-        let mut at: Vec<Vec3> = (0..n).map(|_| next_vec(&mut s) * 12.0).collect();
-        let v: Vec<Vec3> = (0..n)
-            .map(|k| {
-                let out = at[k] - Vec3::splat(6.0);
-                // Most fly out, one in twenty jostles about where it is.
-                if k % 20 != 0 { out * 0.02 } else { Vec3::ZERO }
-            })
-            .collect();
-        let mut kept = FatPairs::default();
-        let mut fresh = SteppedGrid::default();
-        for call in 0..200 {
-            let boxes: Vec<Option<(Aabb, Vec3)>> = (0..n)
-                .map(|k| {
-                    if (k + call / 50) % 37 == 0 {
-                        return None; // gone for a while
-                    }
-                    let jitter = next_vec(&mut s) - 0.5;
-                    let shake = if k % 20 == 0 { 0.004 } else { 0.0 };
-                    let mut d = v[k] + jitter * shake;
-                    if k == 11 && call >= 100 {
-                        d = -d * 5.0; // turns about, faster
-                    }
-                    at[k] += d;
-                    let h = Vec3::splat(0.2 + 0.1 * (k % 3) as Real);
-                    Some((Aabb::new(at[k] - h, at[k] + h), d))
-                })
-                .collect();
-            let keep = |a: u32, b: u32| !(a + b).is_multiple_of(5);
-            // The boxes are swept in a frame drifting a little.
-            let frame = Vec3::new(0.01, -0.005, 0.0);
-            let found = same_as_fresh(&mut kept, &mut fresh, &boxes, frame, &keep, call);
-            assert!(found > 0 || call > 20, "call {call}: no pairs to find");
-        }
-        assert!(
-            kept.rebuilds * 4 < kept.calls && kept.refattened > 0,
-            "{} rebuilds, {} re-fattened in {} calls",
-            kept.rebuilds,
-            kept.refattened,
-            kept.calls
-        );
-    }
-
-    /// Clusters of boxes far apart, each box swinging about its place at its own pace, so
-    /// that boxes leave their fat boxes one by one next to boxes that left theirs before:
-    /// the kept pairs are the grid's own every call, mostly from boxes re-fattened alone.
-    #[test]
-    fn boxes_leaving_their_fat_boxes_one_by_one_keep_every_pair() {
-        let mut s = 5;
-        let n = 400;
-        // Twos that meet now and then, and boxes alone: few pairs, as in debris.
-        let base: Vec<Vec3> = (0..n / 4)
-            .flat_map(|_| {
-                let c = next_vec(&mut s) * 200.0;
-                let far = next_vec(&mut s) * 200.0;
-                [
-                    c,
-                    c + Vec3::new(0.6, 0.1, 0.0),
-                    far,
-                    far + Vec3::splat(50.0),
-                ]
-            })
-            .collect();
-        let pace: Vec<(Vec3, Real)> = (0..n)
-            .map(|_| {
-                let axis = next_vec(&mut s) - 0.5;
-                (axis, 0.005 + 0.015 * next(&mut s))
-            })
-            .collect();
-        let at = |k: usize, t: Real| base[k] + pace[k].0 * (pace[k].1 * t).sin();
-        let (kept, met) = run_calls(400, |call| {
-            let t = call as Real;
-            (0..n)
-                .map(|k| {
-                    let (c, d) = (at(k, t), at(k, t + 1.0) - at(k, t));
-                    let h = Vec3::splat(0.3);
-                    Some((Aabb::new(c - h, c + h), d))
-                })
-                .collect()
-        });
-        assert!(met > 0, "no pairs to find");
-        assert!(
-            kept.refattened > 10 * kept.rebuilds && kept.rebuilds > 0,
-            "{} rebuilds, {} re-fattened in {} calls",
-            kept.rebuilds,
-            kept.refattened,
-            kept.calls
-        );
-    }
-
-    /// Small boxes flying apart with few pairs among them: after a filing that found few
-    /// candidates, fat boxes cover more steps (fewer filings), and the kept pairs are still
-    /// the grid's own every call.
-    #[test]
-    fn few_candidates_give_fat_boxes_covering_more_steps() {
-        let mut s = 7;
-        let n = 500;
-        let mut at: Vec<Vec3> = (0..n).map(|_| next_vec(&mut s) * 40.0).collect();
-        let v: Vec<Vec3> = (0..n).map(|_| (next_vec(&mut s) - 0.5) * 0.05).collect();
-        let (kept, met) = run_calls(300, |_| {
-            (0..n)
-                .map(|k| {
-                    at[k] += v[k];
-                    let h = Vec3::splat(0.05 + 0.1 * (k % 4) as Real);
-                    Some((Aabb::new(at[k] - h, at[k] + h), v[k]))
-                })
-                .collect()
-        });
-        assert!(met > 0, "no pairs to find");
-        assert!(kept.rebuilds >= 2, "{} rebuilds", kept.rebuilds);
-        assert!(
-            kept.ahead > AHEAD && kept.ahead <= MOST_AHEAD,
-            "fat boxes cover {} steps",
-            kept.ahead
-        );
-    }
-
-    /// A lattice of boxes falling together, faster each call, some overlapping their
-    /// neighbours: in the world's frame every box changes its move each call by enough to
-    /// leave a fat box within a few calls; in the frame falling with them the boxes do not
-    /// move, and fat boxes riding with it hold them from the second call on. The kept pairs
-    /// are the grid's own every call (the pairs of boxes that meet within the step: the same
-    /// in any frame the boxes are swept in).
-    #[test]
-    fn boxes_falling_together_are_held_by_fat_boxes_riding_with_them() {
-        use crate::stepped::meet_within_step;
-        let side = 10;
-        let n = side * side * side;
-        let g = Vec3::new(0.0, -0.003, 0.0);
-        let place = |k: usize| {
-            let at = Vec3::new(
-                (k % side) as Real,
-                (k / side % side) as Real,
-                (k / (side * side)) as Real,
-            );
-            at * 0.75
-        };
-        // Apart at 0.3, one in seven at 0.5 overlapping its neighbours.
-        let half = |k: usize| Vec3::splat(if k % 7 == 0 { 0.5 } else { 0.3 });
-        let (mut kept, mut fresh, mut met) = (FatPairs::default(), SteppedGrid::default(), 0);
-        for call in 0..150 {
-            let t = call as Real;
-            // After t semi-implicit Euler steps from rest, and the move over the next.
-            let (fall, d) = (g * (t * (t + 1.0) / 2.0), g * (t + 1.0));
-            let boxes: Vec<Option<(Aabb, Vec3)>> = (0..n)
-                .map(|k| {
-                    let c = place(k) + fall;
-                    Some((Aabb::new(c - half(k), c + half(k)), d))
-                })
-                .collect();
-            let at = |i: u32| boxes[i as usize].expect("a box");
-            let keep = |a: u32, b: u32| meet_within_step(at(a), at(b));
-            met += same_as_fresh(&mut kept, &mut fresh, &boxes, Vec3::ZERO, &keep, call);
-        }
-        assert!(met > 0, "no pairs to find");
-        assert!(
-            kept.ready && kept.ride && kept.rebuilds == 1,
-            "held: {}, riding: {}, {} rebuilds",
-            kept.ready,
-            kept.ride,
-            kept.rebuilds
-        );
-    }
-
-    /// A settled heap: boxes packed side by side, each trembling about its place. Fat boxes
-    /// hold its pairs, with candidates at least half as many as the boxes (each box rounded
-    /// once a call), and the kept pairs are the grid's own every call.
-    #[test]
-    fn a_settled_heap_is_held_by_fat_boxes_with_many_candidates() {
-        let mut s = 11;
-        let side = 8;
-        let n = side * side * side;
-        let place = |k: usize| {
-            Vec3::new(
-                (k % side) as Real,
-                (k / side % side) as Real,
-                (k / (side * side)) as Real,
-            )
-        };
-        let mut last: Vec<Vec3> = (0..n).map(place).collect();
-        let (kept, met) = run_calls(200, |_| {
-            (0..n)
-                .map(|k| {
-                    let at = place(k) + (next_vec(&mut s) - 0.5) * 1e-4;
-                    let d = at - last[k];
-                    last[k] = at;
-                    let h = Vec3::splat(0.5);
-                    Some((Aabb::new(at - h, at + h), d))
-                })
-                .collect()
-        });
-        assert!(met > 0, "no pairs to find");
-        assert!(kept.rebuilds >= 1, "fat boxes never filed");
-        assert!(
-            kept.ready && kept.candidates.len() * 2 >= n,
-            "{} candidates for {n} boxes, held: {}",
-            kept.candidates.len(),
-            kept.ready
-        );
-    }
-}
+#[path = "fat_pairs_tests.rs"]
+mod tests;
