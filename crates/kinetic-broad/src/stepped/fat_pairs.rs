@@ -68,6 +68,12 @@ const MIN_LIFE: u64 = 4;
 const FIRST_WAIT: u64 = 32;
 /// ... doubled at each failure up to this many.
 const LAST_WAIT: u64 = 1024;
+/// Trial fat boxes are looked at on one call in this many (a look at every box each call
+/// cost a gas of 1e3 bodies a sixth of its broad phase)...
+const TRIAL_EVERY: u64 = 4;
+/// ... and the boxes leaving them averaged over about this many looks, after which they are
+/// taken at the earliest.
+const TRIAL_LOOKS: Real = 4.0;
 
 /// Pairs of overlapping boxes, kept between calls while the boxes keep within fat boxes.
 #[derive(Clone, Debug, Default)]
@@ -126,11 +132,12 @@ pub(crate) struct FatPairs {
     steadier_riding: bool,
     sample: Vec<Real>,
     /// While the pairs are found from scratch: per index, a trial fat box (swept in the
-    /// frame passed), and the boxes that left theirs a call, averaged over about
-    /// [`SMOOTHING`] calls, with the calls counted.
+    /// frame passed), the boxes that left theirs a call, averaged, the looks taken, and
+    /// whether the last said the boxes stay in place.
     trial: Vec<Option<Aabb>>,
     trial_leaving: Real,
-    trial_calls: u64,
+    trial_looks: u64,
+    trial_stays: bool,
     /// Scratch: the indices leaving their fat boxes this call, and the pairs they gain.
     leaving: Vec<u32>,
     gained: Vec<(u32, u32)>,
@@ -269,10 +276,7 @@ impl FatPairs {
         // How the typical box's move changed: the frame riding with it turned by that much.
         let turn = last.map_or(Vec3::ZERO, |u| typical - u);
         let (mut unsteady, mut unsteady_riding) = (0, 0);
-        self.trial.resize(boxes.len(), None);
-        let mut leaving = 0;
-        let moves = boxes.boxes.iter().zip(&mut self.last_moves);
-        for ((b, last), trial) in moves.zip(&mut self.trial) {
+        for (b, last) in boxes.boxes.iter().zip(&mut self.last_moves) {
             if let (Some((b, d)), Some(d0)) = (b, *last) {
                 // The swept box's width.
                 let width = (b.max - b.min + (*d - boxes.frame).abs()).max_element();
@@ -281,26 +285,43 @@ impl FatPairs {
                 unsteady_riding += usize::from((change - turn).length() * reach > MARGIN * width);
             }
             *last = b.map(|b| b.1);
-            // The trial fat box: kept while the swept box stays inside it.
-            let swept = boxes.sweep(*b);
-            let stays = match (swept, *trial) {
+        }
+        self.steadier_riding = unsteady_riding < unsteady;
+        let steady = unsteady.min(unsteady_riding) * MOVED_SHARE <= boxes.len();
+        compared && (steady || self.stay_in_place(boxes))
+    }
+
+    /// Whether the boxes stay in place, by their trial fat boxes: fat boxes last [`MIN_LIFE`]
+    /// calls where fewer than one box in [`MOVED_SHARE`] leaves in that many. The trial fat
+    /// boxes are looked at on one call in [`TRIAL_EVERY`], and the boxes leaving them a call
+    /// averaged over about [`TRIAL_LOOKS`] looks, which they are taken at the earliest.
+    fn stay_in_place(&mut self, boxes: &Swept) -> bool {
+        if !self.calls.is_multiple_of(TRIAL_EVERY) {
+            return self.trial_stays;
+        }
+        self.trial.resize(boxes.len(), None);
+        let mut leaving = 0;
+        for (b, trial) in boxes.iter().zip(&mut self.trial) {
+            let stays = match (b, *trial) {
                 (Some((b, _)), Some(fat)) => b.inside(&fat),
                 (None, None) => true,
                 _ => false,
             };
             if !stays {
                 leaving += usize::from(trial.is_some());
-                *trial = swept.map(|b| fatten(b, Vec3::ZERO, Vec3::ZERO, AHEAD));
+                *trial = b.map(|b| fatten(b, Vec3::ZERO, Vec3::ZERO, AHEAD));
             }
         }
-        self.steadier_riding = unsteady_riding < unsteady;
-        self.trial_calls += 1;
-        self.trial_leaving += (leaving as Real - self.trial_leaving) / SMOOTHING;
-        // Fat boxes last [`MIN_LIFE`] calls where fewer than one box in `MOVED_SHARE` leaves
-        // in that many.
-        let stay = self.trial_calls >= SMOOTHING as u64
-            && self.trial_leaving * (MOVED_SHARE as u64 * MIN_LIFE) as Real <= boxes.len() as Real;
-        compared && (stay || unsteady.min(unsteady_riding) * MOVED_SHARE <= boxes.len())
+        // The first look gives every box its trial fat box.
+        if self.trial_looks > 0 {
+            let a_call = leaving as Real / TRIAL_EVERY as Real;
+            self.trial_leaving += (a_call - self.trial_leaving) / TRIAL_LOOKS;
+        }
+        self.trial_looks += 1;
+        let share = (MOVED_SHARE as u64 * MIN_LIFE) as Real;
+        self.trial_stays = self.trial_looks > TRIAL_LOOKS as u64
+            && self.trial_leaving * share <= boxes.len() as Real;
+        self.trial_stays
     }
 
     /// The pairs found from scratch (fat boxes do not hold), in a call that started at
@@ -339,7 +360,8 @@ impl FatPairs {
             // Trial fat boxes count afresh once these no longer hold.
             self.trial.clear();
             self.trial_leaving = 0.0;
-            self.trial_calls = 0;
+            self.trial_looks = 0;
+            self.trial_stays = false;
         }
         self.drift = Vec3::ZERO;
         self.carry = if self.ride { typical } else { Vec3::ZERO };
