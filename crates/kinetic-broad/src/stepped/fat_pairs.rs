@@ -28,14 +28,13 @@
 //! gas bodies are pushed out of their fat boxes at once: there each step finds the pairs from
 //! scratch. Fat boxes are tried only once the boxes move steadily, in either frame, or once
 //! they are seen to stay in place: while the pairs are found from scratch each box keeps a
-//! trial fat box of its own (no grid, no pairs), and where few boxes leave theirs a call (a
-//! stack whose bodies tremble in their contacts, with a few bullets through it) fat boxes
-//! would last whatever the moves say. What a call with fat boxes takes is timed against what
-//! finding its pairs from scratch took when last timed (either way gives the same pairs, so
-//! the clock changes no result); fat boxes filed
-//! afresh fewer than [`MIN_LIFE`] calls after the last time, or costing more, are tried
-//! again only after [`FIRST_WAIT`] calls, then twice as many each time they fail, up to
-//! [`LAST_WAIT`].
+//! trial fat box of its own (no grid, no pairs, looked at one call in [`TRIAL_EVERY`]), and
+//! where few boxes leave theirs a call (a stack whose bodies tremble in their contacts, with
+//! a few bullets through it) fat boxes would last whatever the moves say. What a call with
+//! fat boxes takes is timed against what finding its pairs from scratch took when last timed
+//! (either way gives the same pairs, so the clock changes no result); fat boxes filed afresh
+//! fewer than [`MIN_LIFE`] calls after the last time, or costing more, are tried again only
+//! after [`FIRST_WAIT`] calls, then twice as many each time they fail, up to [`LAST_WAIT`].
 
 use super::{SteppedGrid, typical_move};
 use crate::aabb::{Aabb, AabbF32, overlap, overlapping, to_f32};
@@ -72,7 +71,8 @@ const LAST_WAIT: u64 = 1024;
 /// cost a gas of 1e3 bodies a sixth of its broad phase)...
 const TRIAL_EVERY: u64 = 4;
 /// ... and the boxes leaving them averaged over about this many looks, after which they are
-/// taken at the earliest.
+/// taken at the earliest (chosen, not fitted: four looks cover the 16 steps a fat box
+/// covers at the least, [`AHEAD`]).
 const TRIAL_LOOKS: Real = 4.0;
 
 /// Pairs of overlapping boxes, kept between calls while the boxes keep within fat boxes.
