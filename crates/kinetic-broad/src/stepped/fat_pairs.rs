@@ -6,8 +6,9 @@
 //! not overlap, and each candidate is tested as the grid tests a pair (single precision,
 //! rounded outwards). A box that leaves its fat box, or one that comes or goes, gets a new
 //! fat box whose candidates are looked up in the grid the fat boxes were filed in (passing
-//! over the boxes it holds stale) and among the other boxes re-fattened since. Once more
-//! than one box in [`MOVED_SHARE`] has been re-fattened, all are filed afresh. A box's fat
+//! over the boxes it holds stale) and among the other boxes re-fattened since. Once the
+//! re-fattening since the last filing has taken as long as that filing (rent or buy), or
+//! half the boxes have been re-fattened, all are filed afresh. A box's fat
 //! box is its box swept over some steps of its own move, grown by [`MARGIN`] of its width: a
 //! body in steady flight keeps it for those steps, a body at rest for as long as it rests.
 //! The steps: a filing costs about [`FILING_TESTS`] candidate tests a box, and each
@@ -50,7 +51,8 @@ const MARGIN: Real = 0.1;
 /// Filing the fat boxes afresh costs about this many candidate tests a box (debris of 1e3
 /// bodies in rapier: 125 us a filing, 20 ns a candidate tested).
 const FILING_TESTS: Real = 6.0;
-/// All fat boxes are filed afresh once more than one box in this many has been re-fattened.
+/// The boxes move steadily where at most one in this many changed its move by enough to leave
+/// its fat box within [`AHEAD`] steps.
 const MOVED_SHARE: usize = 16;
 /// The work of a call, in boxes filed in the grid: a box checked against its fat box...
 const CHECK_WORK: Real = 0.25;
@@ -67,6 +69,14 @@ const MIN_LIFE: u64 = 4;
 const FIRST_WAIT: u64 = 32;
 /// ... doubled at each failure up to this many.
 const LAST_WAIT: u64 = 1024;
+/// The boxes re-fattened since the filing are filed in a grid of their own for a call's
+/// look-ups once a scan would test more than this many pairs a box looked up or filed
+/// (chosen, not fitted: a box test costs a few nanoseconds, a filing and a look-up some
+/// hundreds).
+const SCAN_MOST: usize = 32;
+/// Fat boxes are tried where at most one box in this many leaves its trial fat box a call
+/// (chosen, not fitted: what they then cost is timed, and decides).
+const STAY_SHARE: usize = 16;
 /// Trial fat boxes are looked at on one call in this many (a look at every box each call
 /// cost a gas of 1e3 bodies a sixth of its broad phase)...
 const TRIAL_EVERY: u64 = 4;
@@ -145,9 +155,16 @@ pub(crate) struct FatPairs {
     merged: Vec<(u32, u32)>,
     /// Scratch: each box swept and rounded as the grid tests a pair.
     rounded: Vec<Option<AabbF32>>,
+    /// What the last filing of the fat boxes took, and the re-fattening since, in
+    /// nanoseconds; the grid of the boxes re-fattened since, for a call's look-ups.
+    filing_took: Real,
+    refat_took: Real,
+    refat_grid: SteppedGrid,
     /// How many times the fat boxes were filed afresh, boxes re-fattened on their own, and
     /// calls.
     pub(crate) rebuilds: u64,
+    /// Calls whose re-fattened boxes were filed in a grid of their own.
+    pub(crate) refat_filings: u64,
     pub(crate) refattened: u64,
     pub(crate) calls: u64,
 }
@@ -291,10 +308,10 @@ impl FatPairs {
         compared && (steady || self.stay_in_place(boxes))
     }
 
-    /// Whether the boxes stay in place, by their trial fat boxes: fat boxes last [`MIN_LIFE`]
-    /// calls where fewer than one box in [`MOVED_SHARE`] leaves in that many. The trial fat
-    /// boxes are looked at on one call in [`TRIAL_EVERY`], and the boxes leaving them a call
-    /// averaged over about [`TRIAL_LOOKS`] looks, which they are taken at the earliest.
+    /// Whether the boxes stay in place, by their trial fat boxes: at most one box in
+    /// [`STAY_SHARE`] leaves its own a call. The trial fat boxes are looked at on one call
+    /// in [`TRIAL_EVERY`], and the boxes leaving them a call averaged over about
+    /// [`TRIAL_LOOKS`] looks, which they are taken at the earliest.
     fn stay_in_place(&mut self, boxes: &Swept) -> bool {
         if !self.calls.is_multiple_of(TRIAL_EVERY) {
             return self.trial_stays;
@@ -318,9 +335,8 @@ impl FatPairs {
             self.trial_leaving += (a_call - self.trial_leaving) / TRIAL_LOOKS;
         }
         self.trial_looks += 1;
-        let share = (MOVED_SHARE as u64 * MIN_LIFE) as Real;
         self.trial_stays = self.trial_looks > TRIAL_LOOKS as u64
-            && self.trial_leaving * share <= boxes.len() as Real;
+            && self.trial_leaving * STAY_SHARE as Real <= boxes.len() as Real;
         self.trial_stays
     }
 
@@ -349,6 +365,7 @@ impl FatPairs {
     /// Every box given a fat box, filed afresh, and the pairs of fat boxes found; the
     /// typical move is `typical` at this call.
     fn file(&mut self, boxes: &Swept, typical: Vec3) {
+        let start = Instant::now();
         if !self.ready {
             // Fresh from scratch: fat boxes are given the benefit of the doubt, in the frame
             // the boxes were steadier in.
@@ -395,6 +412,8 @@ impl FatPairs {
         let items = fat.filter_map(|(i, f)| Some((i as u32, (*f)?)));
         self.grid.pairs(items, &|_, _| true, &mut self.candidates);
         self.candidates_a_step = Some(self.candidates.len() as Real / self.ahead);
+        self.filing_took = start.elapsed().as_nanos() as Real;
+        self.refat_took = 0.0;
     }
 
     /// Whether box `i` was re-fattened since the fat boxes were filed.
@@ -423,10 +442,15 @@ impl FatPairs {
         if self.leaving.is_empty() {
             return true;
         }
+        // Rent or buy: filed afresh once the re-fattening since the last filing took as
+        // long as that filing (or half the boxes were re-fattened).
         let fresh = self.leaving.iter().filter(|&&i| !self.moved(i));
-        if (self.refat.len() + fresh.count()) * MOVED_SHARE > boxes.len() {
+        if (self.refat.len() + fresh.count()) * 2 > boxes.len()
+            || self.refat_took > self.filing_took
+        {
             return false;
         }
+        let start = Instant::now();
         self.refattened += self.leaving.len() as u64;
         // New fat boxes first, so that two leaving boxes see each other's.
         for &i in &self.leaving {
@@ -438,8 +462,20 @@ impl FatPairs {
             self.left[i as usize] = self.calls;
         }
         // Their candidates: in the grid (passing over stale entries), and among the boxes
-        // re-fattened since it was filed.
+        // re-fattened since it was filed (scanned, or filed in a grid of their own when a
+        // scan would test more than SCAN_MOST pairs a box).
         self.gained.clear();
+        let scan = self.leaving.len() * self.refat.len()
+            <= SCAN_MOST * (self.leaving.len() + self.refat.len());
+        if !scan {
+            self.refat_filings += 1;
+            let fat = &self.fat;
+            let refat = self
+                .refat
+                .iter()
+                .filter_map(|&j| Some((j, fat[j as usize]?)));
+            self.refat_grid.file_for_lookups(refat);
+        }
         for &i in &self.leaving {
             let Some(f) = self.fat[i as usize] else {
                 continue;
@@ -448,11 +484,26 @@ impl FatPairs {
             self.grid.overlapping_with(&f, &mut self.found);
             let (left, built) = (&self.left, self.built);
             self.found.retain(|&j| left[j as usize] <= built);
-            for &j in &self.refat {
-                if let Some(g) = self.fat[j as usize]
-                    && overlapping(&f, &g)
-                {
-                    self.found.push(j);
+            if scan {
+                for &j in &self.refat {
+                    if let Some(g) = self.fat[j as usize]
+                        && overlapping(&f, &g)
+                    {
+                        self.found.push(j);
+                    }
+                }
+            } else {
+                let at = self.found.len();
+                self.refat_grid.overlapping_with(&f, &mut self.found);
+                let fat = &self.fat;
+                let mut k = at;
+                while k < self.found.len() {
+                    let j = self.found[k];
+                    if fat[j as usize].is_some_and(|g| overlapping(&f, &g)) {
+                        k += 1;
+                    } else {
+                        self.found.swap_remove(k);
+                    }
                 }
             }
             for &j in &self.found {
@@ -480,6 +531,7 @@ impl FatPairs {
         }
         self.merged.extend(g);
         std::mem::swap(&mut self.candidates, &mut self.merged);
+        self.refat_took += start.elapsed().as_nanos() as Real;
         true
     }
 }

@@ -256,6 +256,55 @@ fn a_trembling_heap_with_bullets_through_it_is_held_by_fat_boxes() {
     );
 }
 
+/// A heap trembling in place, a twentieth of whose boxes jump to another place each call:
+/// the boxes re-fattened since the filing come to be filed in a grid of their own for the
+/// look-ups, and the kept pairs are the grid's own every call.
+#[test]
+fn boxes_leaving_their_fat_boxes_by_the_score_keep_every_pair() {
+    let mut s = 17;
+    let side = 12;
+    let n = side * side * side;
+    let place = |k: usize| {
+        Vec3::new(
+            (k % side) as Real,
+            (k / side % side) as Real,
+            (k / (side * side)) as Real,
+        ) * 1.1
+    };
+    let mut home: Vec<Vec3> = (0..n).map(place).collect();
+    let mut last = home.clone();
+    let (kept, met) = run_calls(120, |call| {
+        // From the 40th call, some boxes trade places each call.
+        if call >= 40 {
+            for _ in 0..n / 40 {
+                let (a, b) = (
+                    (next(&mut s) * n as Real) as usize % n,
+                    (next(&mut s) * n as Real) as usize % n,
+                );
+                home.swap(a, b);
+            }
+        }
+        (0..n)
+            .map(|k| {
+                let at = home[k] + (next_vec(&mut s) - 0.5) * 0.01;
+                let d = at - last[k];
+                last[k] = at;
+                let h = Vec3::splat(0.5);
+                Some((Aabb::new(at - h, at + h), d))
+            })
+            .collect()
+    });
+    assert!(met > 0, "no pairs to find");
+    assert!(
+        kept.refat_filings > 0 && kept.refattened > 0,
+        "{} filings of the re-fattened boxes, {} re-fattened, {} rebuilds in {} calls",
+        kept.refat_filings,
+        kept.refattened,
+        kept.rebuilds,
+        kept.calls
+    );
+}
+
 /// A settled heap: boxes packed side by side, each trembling about its place. Fat boxes
 /// hold its pairs, with candidates at least half as many as the boxes (each box rounded
 /// once a call), and the kept pairs are the grid's own every call.
