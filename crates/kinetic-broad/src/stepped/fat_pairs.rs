@@ -77,6 +77,9 @@ const SCAN_MOST: usize = 32;
 /// Fat boxes are tried where at most one box in this many leaves its trial fat box a call
 /// (chosen, not fitted: what they then cost is timed, and decides).
 const STAY_SHARE: usize = 16;
+/// A timed call counts for at most this many times what it was expected to take (chosen,
+/// not fitted: a filing of the fat boxes takes about twice a call from scratch).
+const OUTLIER: Real = 4.0;
 /// Trial fat boxes are looked at on one call in this many (a look at every box each call
 /// cost a gas of 1e3 bodies a sixth of its broad phase)...
 const TRIAL_EVERY: u64 = 4;
@@ -254,9 +257,12 @@ impl FatPairs {
         let plain = boxes.len() as Real + out.len() as Real * TEST_WORK;
         self.work += (work - self.work) / SMOOTHING;
         self.plain_work += (plain - self.plain_work) / SMOOTHING;
+        // A call's time counts for at most OUTLIER times its estimate from scratch, and a
+        // pace for at most OUTLIER times the last: a call preempted on a shared machine
+        // says nothing of either way.
         let took = start.elapsed().as_nanos() as Real;
-        self.took += (took - self.took) / SMOOTHING;
         let plain_took = plain * self.plain_pace.unwrap_or(took / plain);
+        self.took += (took.min(OUTLIER * plain_took) - self.took) / SMOOTHING;
         self.plain_took += (plain_took - self.plain_took) / SMOOTHING;
     }
 
@@ -359,7 +365,7 @@ impl FatPairs {
         let units = boxes.len() as Real + out.len() as Real * TEST_WORK;
         let pace = start.elapsed().as_nanos() as Real / units.max(1.0);
         let last = self.plain_pace.unwrap_or(pace);
-        self.plain_pace = Some(last + (pace - last) / SMOOTHING);
+        self.plain_pace = Some(last + (pace.min(OUTLIER * last) - last) / SMOOTHING);
     }
 
     /// Every box given a fat box, filed afresh, and the pairs of fat boxes found; the
