@@ -12,6 +12,14 @@ fn lattice(side: usize, k: usize) -> Vec3 {
     )
 }
 
+/// A cube of half-side `half` now at `at`, with how far it moved since it was at `last`,
+/// which becomes `at`.
+fn moved_to(at: Vec3, last: &mut Vec3, half: Real) -> Option<(Aabb, Vec3)> {
+    let d = at - std::mem::replace(last, at);
+    let h = Vec3::splat(half);
+    Some((Aabb::new(at - h, at + h), d))
+}
+
 /// One call of `kept` against the pairs the grid finds afresh from the same boxes swept
 /// in `frame`: the same pairs, of which it returns how many.
 fn same_as_fresh(
@@ -234,10 +242,7 @@ fn a_trembling_heap_with_bullets_through_it_is_held_by_fat_boxes() {
                     let x = -4.0 + 0.5 * (call % 32) as Real;
                     Vec3::new(x, 2.5 + (k - n) as Real * 3.0, 3.5)
                 };
-                let d = at - last[k];
-                last[k] = at;
-                let h = Vec3::splat(if k < n { 0.5 } else { 0.1 });
-                Some((Aabb::new(at - h, at + h), d))
+                moved_to(at, &mut last[k], if k < n { 0.5 } else { 0.1 })
             })
             .collect()
     });
@@ -279,10 +284,7 @@ fn boxes_leaving_their_fat_boxes_by_the_score_keep_every_pair() {
         (0..n)
             .map(|k| {
                 let at = home[k] + (next_vec(&mut s) - 0.5) * 0.01;
-                let d = at - last[k];
-                last[k] = at;
-                let h = Vec3::splat(0.5);
-                Some((Aabb::new(at - h, at + h), d))
+                moved_to(at, &mut last[k], 0.5)
             })
             .collect()
     });
@@ -311,10 +313,7 @@ fn a_settled_heap_is_held_by_fat_boxes_with_many_candidates() {
         (0..n)
             .map(|k| {
                 let at = place(k) + (next_vec(&mut s) - 0.5) * 1e-4;
-                let d = at - last[k];
-                last[k] = at;
-                let h = Vec3::splat(0.5);
-                Some((Aabb::new(at - h, at + h), d))
+                moved_to(at, &mut last[k], 0.5)
             })
             .collect()
     });
