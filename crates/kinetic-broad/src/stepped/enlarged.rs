@@ -33,7 +33,7 @@ const LOOKUP_WORK: usize = 8;
 /// The loose boxes are filed in a grid of their own for a call's look-ups once the tests a
 /// scan would make are more than this many per box filed and looked up (chosen, not
 /// fitted: a box test costs a few nanoseconds, a filing and a look-up some hundreds).
-const SCAN_MOST: usize = 32;
+pub(super) const SCAN_MOST: usize = 32;
 /// The place of a box that is not loose.
 const NOT_LOOSE: u32 = u32::MAX;
 

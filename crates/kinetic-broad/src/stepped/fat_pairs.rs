@@ -37,6 +37,7 @@
 //! fewer than [`MIN_LIFE`] calls after the last time, or costing more, are tried again only
 //! after [`FIRST_WAIT`] calls, then twice as many each time they fail, up to [`LAST_WAIT`].
 
+use super::enlarged::SCAN_MOST;
 use super::{SteppedGrid, typical_move};
 use crate::aabb::{Aabb, AabbF32, overlap, overlapping, to_f32};
 use kinetic_core::{Real, Vec3};
@@ -69,11 +70,6 @@ const MIN_LIFE: u64 = 4;
 const FIRST_WAIT: u64 = 32;
 /// ... doubled at each failure up to this many.
 const LAST_WAIT: u64 = 1024;
-/// The boxes re-fattened since the filing are filed in a grid of their own for a call's
-/// look-ups once a scan would test more than this many pairs a box looked up or filed
-/// (chosen, not fitted: a box test costs a few nanoseconds, a filing and a look-up some
-/// hundreds).
-const SCAN_MOST: usize = 32;
 /// Fat boxes are tried where at most one box in this many leaves its trial fat box a call
 /// (chosen, not fitted: what they then cost is timed, and decides).
 const STAY_SHARE: usize = 16;
@@ -469,7 +465,8 @@ impl FatPairs {
         }
         // Their candidates: in the grid (passing over stale entries), and among the boxes
         // re-fattened since it was filed (scanned, or filed in a grid of their own when a
-        // scan would test more than SCAN_MOST pairs a box).
+        // scan would test more than SCAN_MOST pairs a box, as the loose boxes of enlarged
+        // boxes are).
         self.gained.clear();
         let scan = self.leaving.len() * self.refat.len()
             <= SCAN_MOST * (self.leaving.len() + self.refat.len());
