@@ -108,11 +108,9 @@ pub(crate) struct FatPairs {
     wait: u64,
     /// Per index, the box's move at the last call.
     last_moves: Vec<Option<Vec3>>,
-    /// The work of a call with fat boxes, and of one finding the pairs from scratch,
-    /// averaged over about [`SMOOTHING`] calls (in boxes filed: the same on every run, for
-    /// [`FatPairs::work`]).
+    /// The work of a call with fat boxes, averaged over about [`SMOOTHING`] calls (in boxes
+    /// filed: the same on every run, for [`FatPairs::work`]).
     work: Real,
-    plain_work: Real,
     /// What a call with fat boxes took, and what finding its pairs from scratch would have
     /// (its boxes and pairs at the pace measured when they were last found so), averaged
     /// over about [`SMOOTHING`] calls, in nanoseconds: whether fat boxes pay is measured
@@ -252,7 +250,6 @@ impl FatPairs {
         work += self.candidates.len() as Real * TEST_WORK;
         let plain = boxes.len() as Real + out.len() as Real * TEST_WORK;
         self.work += (work - self.work) / SMOOTHING;
-        self.plain_work += (plain - self.plain_work) / SMOOTHING;
         // A call's time counts for at most OUTLIER times its estimate from scratch, and a
         // pace for at most OUTLIER times the last: a call preempted on a shared machine
         // says nothing of either way.
@@ -372,7 +369,6 @@ impl FatPairs {
             // Fresh from scratch: fat boxes are given the benefit of the doubt, in the frame
             // the boxes were steadier in.
             self.work = 0.0;
-            self.plain_work = 0.0;
             self.took = 0.0;
             self.plain_took = 0.0;
             self.ride = self.steadier_riding;
