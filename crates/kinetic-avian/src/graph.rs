@@ -9,13 +9,15 @@ use kinetic_broad::Key;
 
 /// Adds to `graph` every pair of `pairs` (live ones, each once) whose colliders' enlarged
 /// boxes overlap and that it does not hold, unless avian's broad phase would filter it out;
-/// returns how many were added.
+/// returns how many were added, and pushes onto `in_graph` whether each pair is in the graph
+/// now.
 pub(crate) fn add_overlapping(
     pairs: &[(Key, Key)],
     world: &AvianWorld,
     hooks: &impl CollisionHooks,
     commands: &mut Commands,
     graph: &mut ContactGraph,
+    in_graph: &mut Vec<bool>,
 ) -> u64 {
     let mut added = 0;
     // The pairs come grouped by their first collider: it is read once a group, and only
@@ -23,11 +25,15 @@ pub(crate) fn add_overlapping(
     let mut first = None;
     for &(a, b) in pairs {
         let (Some(e1), Some(e2)) = (entity(a), entity(b)) else {
+            in_graph.push(false);
             continue;
         };
         if graph.contains(e1, e2) {
+            in_graph.push(true);
             continue;
         }
+        // Left out unless added below.
+        in_graph.push(false);
         if first.is_none_or(|(k, _)| k != a) {
             first = Some((a, world.collider_view(a)));
         }
@@ -85,6 +91,7 @@ pub(crate) fn add_overlapping(
                     && !flags.contains(ColliderTreeProxyFlags::SENSOR),
             );
         });
+        *in_graph.last_mut().expect("pushed") = true;
         added += 1;
     }
     added

@@ -42,6 +42,12 @@
 //! collisions disabled, and the `filter_pairs` hook of `H`
 //! ([`CollisionHooks`](avian3d::prelude::CollisionHooks)). The graph then gets the pairs
 //! avian's own broad phase would give it.
+//! avian's own broad phase looks up in the graph every pair of every collider whose box
+//! moved; the plugin looks a live pair up only where it may be missing: a new pair, a pair
+//! of a changed collider, or one it left out before (filtered, as avian asks again each time
+//! a box moves). avian's changes that take pairs out of the graph (a joint, a body disabled,
+//! enabled or made no body) make it look at every pair again as its colliders move; so does
+//! [`KineticBroadPhase::recheck_pairs`], for pairs taken out of the graph by hand.
 //!
 //! With [`KineticBroadPhasePlugin::with_loose_grid`] the caller picks a kinetic structure
 //! instead: every collider is then a ball about its body's centre of mass (grown by avian's
@@ -51,6 +57,7 @@
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
+mod checks;
 mod graph;
 mod view;
 
@@ -59,7 +66,7 @@ use avian3d::prelude::*;
 use bevy::ecs::system::{StaticSystemParam, SystemParamItem};
 use bevy::prelude::*;
 use core::marker::PhantomData;
-use kinetic_broad::{BroadPhaseCore, Key, PairEvent};
+use kinetic_broad::BroadPhaseCore;
 
 pub use kinetic_broad::{BroadPhaseStats, StepStats};
 
@@ -136,13 +143,9 @@ where
 #[derive(Resource, Default)]
 pub struct KineticBroadPhase {
     core: BroadPhaseCore,
-    /// Pairs the core handed to the engine in this step (those it holds are kept in the
-    /// core alone: [`BroadPhaseCore::partners`]).
-    fresh: Vec<(Key, Key)>,
-    /// Per collider index, the last step that listed it among the active colliders, and
-    /// the last that took its pairs (scratch for the pairs to check).
-    marks: Vec<(u32, u32)>,
-    call: u32,
+    /// Which live pairs to look for in the contact graph (the pairs themselves are kept in
+    /// the core alone: [`BroadPhaseCore::partners`]).
+    checks: checks::Checks,
     /// Whether the first step has been seen.
     started: bool,
     audit: bool,
@@ -212,53 +215,11 @@ impl KineticBroadPhase {
         }
     }
 
-    /// Notes the pairs the core handed over in this call.
-    fn note_added(&mut self, events: &[PairEvent]) {
-        let added = events.iter().filter_map(|e| match *e {
-            PairEvent::Add(a, b) => Some((a, b)),
-            PairEvent::Delete(..) => None,
-        });
-        self.fresh.extend(added);
-    }
-
-    /// The live pairs that may have to go into the contact graph this step, each once: those
-    /// of the colliders changed or whose enlarged boxes moved (`active`), and those new this
-    /// step. A live pair of two colliders whose enlarged boxes did not move is as it was when
-    /// last checked: in the graph if those boxes overlapped (avian drops a pair only once
-    /// they stop), and still apart if they were apart. In the order of `active`, then of the
-    /// new pairs, so that the graph is built the same way every run.
-    fn pairs_to_check(&mut self, active: &[Key]) -> Vec<(Key, Key)> {
-        self.call = self.call.wrapping_add(1).max(1);
-        let call = self.call;
-        if let Some(last) = active.iter().map(|k| k.index as usize).max()
-            && self.marks.len() <= last
-        {
-            self.marks.resize(last + 1, (0, 0));
-        }
-        for a in active {
-            self.marks[a.index as usize].0 = call;
-        }
-        let is_active =
-            |marks: &[(u32, u32)], k: Key| marks.get(k.index as usize).is_some_and(|m| m.0 == call);
-        let mut pairs = Vec::new();
-        for &a in active {
-            let taken = &mut self.marks[a.index as usize].1;
-            if std::mem::replace(taken, call) == call {
-                continue;
-            }
-            // A pair of two active colliders is taken from its lower end.
-            let marks = &self.marks;
-            let others = self.core.partners(a);
-            let others = others.filter(|&b| !(b.index < a.index && is_active(marks, b)));
-            pairs.extend(others.map(|b| (a, b)));
-        }
-        for (a, b) in std::mem::take(&mut self.fresh) {
-            let covered = is_active(&self.marks, a) || is_active(&self.marks, b);
-            if !covered && self.core.has_pair(a, b) {
-                pairs.push((a, b));
-            }
-        }
-        pairs
+    /// Checks every live pair again when its colliders next move: call it after taking
+    /// pairs out of avian's contact graph by hand (the plugin itself observes every change
+    /// of avian's that takes pairs out).
+    pub fn recheck_pairs(&mut self) {
+        self.checks.recheck_all();
     }
 }
 
@@ -280,6 +241,11 @@ fn collect_pairs<H: CollisionHooks>(
     let step = world.step();
     let every = !state.started || state.core.reads_every_move();
     let (modified, removed, moved) = changes.collect(&world, &state.core, every);
+    if changes.take_recheck() || world.joints.is_changed() {
+        // Pairs may have left the graph unseen: a joint, or a body disabled or retyped.
+        state.checks.recheck_all();
+    }
+    state.checks.forget(&removed);
     let mut events = Vec::new();
     if step.dt > 0.0 {
         let removed = if state.started {
@@ -288,7 +254,7 @@ fn collect_pairs<H: CollisionHooks>(
             state
                 .core
                 .update(step, &world, &moved, &removed, &mut events);
-            state.note_added(&events);
+            state.checks.note(&events);
             events.clear();
             if modified.is_empty() {
                 // (With changes made since, the world is already past what the core knows.)
@@ -303,22 +269,26 @@ fn collect_pairs<H: CollisionHooks>(
         state
             .core
             .update(step, &world, &modified, removed, &mut events);
-        state.note_added(&events);
+        state.checks.note(&events);
     }
     state.audit_now(&world, "at the start of the step");
-    // Of the live pairs, those that may have changed whether their enlarged boxes overlap:
-    // the new ones, and those of colliders changed or whose enlarged boxes avian moved. A
-    // collider that only jiggles within its enlarged box costs nothing here.
-    let mut active = modified;
-    active.extend(world.enlarged_moved(false));
-    let check = state.pairs_to_check(&active);
+    // Of the live pairs, those that may have to go into the graph: the new ones, those of
+    // colliders changed, and those of colliders whose enlarged boxes avian moved that were
+    // not all found in the graph before. A collider that only jiggles within its enlarged
+    // box costs nothing here.
+    let moved: Vec<_> = world.enlarged_moved(false).collect();
+    let trust = !state.core.reads_every_move();
+    let check = state.checks.pairs(&state.core, &modified, &moved, trust);
+    let mut in_graph = Vec::with_capacity(check.len());
     let added = graph::add_overlapping(
         &check,
         &world,
         &hooks.into_inner(),
         &mut commands,
         &mut contact_graph,
+        &mut in_graph,
     );
+    state.checks.settle(&check, &in_graph);
     state.added += added;
     state.last_added = added;
     state.last_time = start.elapsed();

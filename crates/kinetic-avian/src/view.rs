@@ -63,6 +63,9 @@ type BodyItem = (
 pub(crate) struct Inserted {
     colliders: Vec<Entity>,
     bodies: Vec<Entity>,
+    /// Whether a change since the last step may have taken pairs out of the contact graph
+    /// (a body disabled, enabled or made no body: avian drops its colliders' pairs).
+    recheck: bool,
 }
 
 /// Notes the insertions the broad phase acts on (`ColliderOf`, `CollisionLayers`, `Sensor`,
@@ -82,6 +85,20 @@ pub(crate) fn observe_insertions(app: &mut App) {
     note!(Add<Sensor>, colliders);
     note!(Add<ColliderDisabled>, colliders);
     note!(Insert<RigidBody>, bodies);
+    macro_rules! recheck {
+        ($($event:ty),*) => {$(
+            app.add_observer(|_: On<$event>, mut inserted: ResMut<Inserted>| {
+                inserted.recheck = true;
+            });
+        )*};
+    }
+    recheck!(
+        Add<RigidBodyDisabled>,
+        Remove<RigidBodyDisabled>,
+        Add<bevy::ecs::entity_disabling::Disabled>,
+        Remove<bevy::ecs::entity_disabling::Disabled>,
+        Remove<RigidBody>
+    );
 }
 
 /// Colliders that moved, and their bodies.
@@ -297,6 +314,12 @@ pub(crate) struct Changes<'w, 's> {
 }
 
 impl Changes<'_, '_> {
+    /// Whether a change since the last call may have taken pairs out of the contact graph
+    /// unseen by the pairs' colliders.
+    pub(crate) fn take_recheck(&mut self) -> bool {
+        std::mem::take(&mut self.inserted.recheck)
+    }
+
     /// The colliders changed by the user (or new), those removed, and those moved: with
     /// `every` (the core reads every moved body), all those on bodies that move and are
     /// awake; else those whose enlarged boxes avian moved.

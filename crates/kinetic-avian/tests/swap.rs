@@ -471,3 +471,44 @@ fn changed_midway(broad: Broad) {
         }
     }
 }
+
+/// Pairs that avian takes out of its contact graph while their boxes overlap (a joint with
+/// collisions disabled, a body disabled), let in again midway, are in the graph again as with
+/// avian's own broad phase: the plugin looks for a pair in the graph only when it may not be
+/// there.
+#[test]
+fn pairs_taken_out_of_the_graph_and_let_in_again_come_back() {
+    for broad in [Broad::Default, Broad::Kinetic] {
+        let mut app = app(broad);
+        ground(&mut app);
+        // Two stacks of two crates, and a third crate pressed half into a fourth.
+        let unit = Vec3::ONE;
+        let a = spawn(&mut app, cuboid(Vec3::new(-3.0, 0.5, 0.0), unit));
+        let b = spawn(&mut app, cuboid(Vec3::new(-3.0, 1.5, 0.0), unit));
+        let c = spawn(&mut app, cuboid(Vec3::new(3.0, 0.5, 0.0), unit));
+        spawn(&mut app, cuboid(Vec3::new(3.0, 1.5, 0.0), unit));
+        let mut joint = None;
+        for k in 0..120 {
+            let missing = step_missing(&mut app, 0.0);
+            match k {
+                // The joint's crates sink into each other; the disabled crate stays put.
+                30 => {
+                    let j = (DistanceJoint::new(a, b), JointCollisionDisabled);
+                    joint = Some(app.world_mut().spawn(j).id());
+                    app.world_mut().entity_mut(c).insert(RigidBodyDisabled);
+                }
+                50 => {
+                    let j = joint.expect("a joint");
+                    app.world_mut()
+                        .entity_mut(j)
+                        .remove::<JointCollisionDisabled>();
+                    app.world_mut().entity_mut(c).remove::<RigidBodyDisabled>();
+                }
+                _ => {}
+            }
+            if !(30..=52).contains(&k) {
+                assert!(missing.is_empty(), "{broad:?}, step {k}: {missing:?}");
+            }
+        }
+    }
+}
