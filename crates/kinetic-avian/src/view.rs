@@ -104,10 +104,19 @@ pub(crate) fn observe_insertions(app: &mut App) {
 /// Colliders that moved, and their bodies.
 type Placed = (Entity, Option<&'static ColliderOf>);
 
+/// What a look-up in avian's trees reads of a collider: its enlarged box, tree proxy and
+/// whether it is disabled (a narrower query than [`ColliderItem`], read for every box moved).
+type BoxItem = (
+    &'static EnlargedAabb,
+    Option<&'static ColliderTreeProxyKey>,
+    Has<ColliderDisabled>,
+);
+
 /// avian's world as the broad phase reads it.
 #[derive(SystemParam)]
 pub(crate) struct AvianWorld<'w, 's> {
     colliders: Query<'w, 's, ColliderItem>,
+    boxes: Query<'w, 's, BoxItem>,
     bodies: Query<'w, 's, BodyItem>,
     all: Query<'w, 's, Entity, With<Collider>>,
     pub(crate) trees: Res<'w, ColliderTrees>,
@@ -161,7 +170,7 @@ impl AvianWorld<'_, '_> {
     /// Collider `k`, if it is there and enabled.
     pub(crate) fn collider_view(&self, k: Key) -> Option<ColliderView<'_>> {
         let e = entity(k)?;
-        let (_, _, _, enlarged, _, _, _, proxy, disabled) = self.colliders.get(e).ok()?;
+        let (enlarged, proxy, disabled) = self.boxes.get(e).ok()?;
         (!disabled).then_some(ColliderView {
             entity: e,
             enlarged,
@@ -252,7 +261,7 @@ impl Engine for AvianWorld<'_, '_> {
     /// the collider's box leaves it (the pairs avian's narrow phase keeps are those whose
     /// enlarged boxes overlap).
     fn enlarged(&self, c: Key) -> Option<Aabb> {
-        let (_, _, _, enlarged, _, _, _, _, disabled) = self.colliders.get(entity(c)?).ok()?;
+        let (enlarged, _, disabled) = self.boxes.get(entity(c)?).ok()?;
         let (min, max) = (dvec!(enlarged.min), dvec!(enlarged.max));
         (!disabled && min.is_finite() && max.is_finite() && min.cmple(max).all())
             .then(|| Aabb::new(min, max))
@@ -263,8 +272,8 @@ impl Engine for AvianWorld<'_, '_> {
     /// avian keeps the trees up to date for its queries whichever broad phase runs.
     fn enlarged_near(&self, c: Key, out: &mut Vec<u32>) -> bool {
         let proxy = entity(c)
-            .and_then(|e| self.colliders.get(e).ok())
-            .and_then(|item| item.7.copied());
+            .and_then(|e| self.boxes.get(e).ok())
+            .and_then(|item| item.1.copied());
         let Some(proxy) = proxy else {
             return true;
         };
