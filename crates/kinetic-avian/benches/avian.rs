@@ -15,7 +15,9 @@
 //! `-- --space K [--from F] [--steps S] [--repeat R]` runs draws F to F + K - 1 of the engine
 //! scene space (`kinetic_scenes::engines::space`) instead (default S = 60), and writes each
 //! draw's ratios and the worst and median over the draws as the `avian` rows of
-//! `docs/results/engines.csv` (or `--csv PATH`).
+//! `docs/results/engines.csv` (or `--csv PATH`). With `--first` it times the first physics
+//! step alone, which takes every collider in (each side builds its structure), and writes
+//! the rows to `docs/results/engines-first-step.csv` (`steps` 1).
 
 use avian3d::collider_tree::ColliderTreeDiagnostics;
 use avian3d::collision::CollisionDiagnostics;
@@ -43,7 +45,9 @@ struct Row {
     touching: f64,
 }
 
-fn run(scene: &EngineScene, side: Side, steps: usize) -> (Row, String) {
+/// `steps` steps of `scene` on `side`, timed after the first physics step; with `first`, the
+/// first physics step alone.
+fn run(scene: &EngineScene, side: Side, steps: usize, first: bool) -> (Row, String) {
     let mut app = App::new();
     app.add_plugins((MinimalPlugins, TransformPlugin));
     let physics = PhysicsPlugins::default().build();
@@ -63,6 +67,22 @@ fn run(scene: &EngineScene, side: Side, steps: usize) -> (Row, String) {
     // The first update sets the clocks: no physics step yet. The second is a step, which
     // makes the islands the resting pieces then sleep in.
     app.update();
+    if first {
+        let start = Instant::now();
+        app.update();
+        let row = Row {
+            step_ms: start.elapsed().as_secs_f64() * 1e3,
+            bp_ms: app
+                .world()
+                .resource::<CollisionDiagnostics>()
+                .broad_phase
+                .as_secs_f64()
+                * 1e3,
+            pairs: app.world().resource::<ContactGraph>().iter_active().count() as f64,
+            ..Row::default()
+        };
+        return (row, structure(&app));
+    }
     app.update();
     kinetic_scenes::avian::put_to_sleep(scene, app.world_mut(), &entities);
     let mut row = Row::default();
@@ -99,9 +119,16 @@ fn structure(app: &App) -> String {
         .map_or_else(|| "bvh".to_string(), |k| k.structure_name().to_string())
 }
 
-/// Runs draws `from..from + count` of the scene space and writes the `avian` rows of `csv`.
-fn space_draws(from: u64, count: u64, steps: usize, repeat: usize, csv: &str) {
-    println!("avian3d 0.8, {steps} steps at 64 Hz, medians of {repeat} interleaved runs\n");
+/// Runs draws `from..from + count` of the scene space and writes the `avian` rows of `csv`
+/// (with `first`, of the first physics step alone).
+fn space_draws(from: u64, count: u64, steps: usize, repeat: usize, first: bool, csv: &str) {
+    let steps = if first { 1 } else { steps };
+    let timed = if first {
+        "the first physics step".to_string()
+    } else {
+        format!("{steps} steps at 64 Hz")
+    };
+    println!("avian3d 0.8, {timed}, medians of {repeat} interleaved runs\n");
     println!("| seed | draw | step | broad phase | pairs | kinetic as |");
     println!("|---|---|---|---|---|---|");
     let mut rows = Vec::new();
@@ -110,8 +137,8 @@ fn space_draws(from: u64, count: u64, steps: usize, repeat: usize, csv: &str) {
         let mut runs: [Vec<Row>; 2] = [Vec::new(), Vec::new()];
         let mut name = String::new();
         for _ in 0..repeat {
-            runs[0].push(run(&d.scene, Side::Avian, steps).0);
-            let (row, s) = run(&d.scene, Side::Kinetic, steps);
+            runs[0].push(run(&d.scene, Side::Avian, steps, first).0);
+            let (row, s) = run(&d.scene, Side::Kinetic, steps, first);
             runs[1].push(row);
             name = s;
         }
@@ -137,7 +164,7 @@ fn main() {
     let mut scenes: Vec<String> = engines::STANDARD.iter().map(|s| s.to_string()).collect();
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
     let mut csv = None;
-    let (mut draws, mut from, mut steps_given) = (None, 0u64, false);
+    let (mut draws, mut from, mut steps_given, mut first) = (None, 0u64, false, false);
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         let mut value = |name: &str| {
@@ -154,17 +181,24 @@ fn main() {
             "--repeat" => repeat = value("--repeat").parse().expect("--repeat: a number"),
             "--scenes" => scenes = value("--scenes").split(',').map(str::to_string).collect(),
             "--csv" => csv = Some(value("--csv")),
+            "--first" => first = true,
             "--bench" => {}
             n => ns.push(n.parse::<usize>().expect("N: a number of bodies")),
         }
     }
     if let Some(count) = draws {
-        let csv = csv.unwrap_or(format!("{root}/docs/results/engines.csv"));
+        let file = if first {
+            "engines-first-step"
+        } else {
+            "engines"
+        };
+        let csv = csv.unwrap_or(format!("{root}/docs/results/{file}.csv"));
         space_draws(
             from,
             count,
             if steps_given { steps } else { 60 },
             repeat,
+            first,
             &csv,
         );
         return;
@@ -189,8 +223,8 @@ fn main() {
             });
             let mut runs: [Vec<Row>; 2] = [Vec::new(), Vec::new()];
             for _ in 0..repeat {
-                runs[0].push(run(&scene, Side::Avian, steps).0);
-                runs[1].push(run(&scene, Side::Kinetic, steps).0);
+                runs[0].push(run(&scene, Side::Avian, steps, false).0);
+                runs[1].push(run(&scene, Side::Kinetic, steps, false).0);
             }
             let med = |side: usize, f: fn(&Row) -> f64| median(runs[side].iter().map(f).collect());
             let rows: Vec<Row> = (0..2)

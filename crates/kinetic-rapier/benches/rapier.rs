@@ -18,7 +18,9 @@
 //! as the `rapier` rows of `docs/results/engines.csv` (or `--csv PATH`). Each draw also runs
 //! rapier's own broad phase a second time with the pairs of each update handed over in
 //! reverse order (interleaved with the others): its step over the own step is how far the
-//! step moves with the order of the pairs alone, the step ratio's reference.
+//! step moves with the order of the pairs alone, the step ratio's reference. With `--first`
+//! it times the first step alone, which takes every collider in (each side builds its
+//! structure), and writes the rows to `docs/results/engines-first-step.csv` (`steps` 1).
 
 use kinetic_rapier::KineticBroadPhase;
 use kinetic_scenes::engines::results::{self, DrawRow};
@@ -134,8 +136,10 @@ fn kinetic() -> KineticBroadPhase {
     }
 }
 
-/// Runs draws `from..from + count` of the scene space and writes the `rapier` rows of `csv`.
-fn space_draws(from: u64, count: u64, steps: usize, repeat: usize, csv: &str) {
+/// Runs draws `from..from + count` of the scene space and writes the `rapier` rows of `csv`
+/// (with `first`, of the first step alone, and no run with the pairs reversed).
+fn space_draws(from: u64, count: u64, steps: usize, repeat: usize, first: bool, csv: &str) {
+    let steps = if first { 1 } else { steps };
     println!("rapier 0.27, {steps} steps at 60 Hz, medians of {repeat} interleaved runs\n");
     println!("| seed | draw | step | broad phase | pairs | kinetic as | own, pairs reversed |");
     println!("|---|---|---|---|---|---|---|");
@@ -146,7 +150,9 @@ fn space_draws(from: u64, count: u64, steps: usize, repeat: usize, csv: &str) {
         let (mut ds, mut ks, mut rs) = (Vec::new(), Vec::new(), Vec::new());
         for _ in 0..repeat {
             ds.push(run(make(), &mut DefaultBroadPhase::new(), steps, steps));
-            rs.push(run(make(), &mut Reversed::default(), steps, steps).step_ms);
+            if !first {
+                rs.push(run(make(), &mut Reversed::default(), steps, steps).step_ms);
+            }
             let mut kbp = kinetic();
             ks.push(run(make(), &mut kbp, steps, steps));
             if ks.len() == repeat {
@@ -164,7 +170,7 @@ fn space_draws(from: u64, count: u64, steps: usize, repeat: usize, csv: &str) {
                 };
                 let mut row = DrawRow::new(&d, steps, side(&ds), side(&ks), kbp.structure_name());
                 rs.sort_by(f64::total_cmp);
-                row.own_reversed_step_ms = Some(rs[rs.len() / 2]);
+                row.own_reversed_step_ms = rs.get(rs.len() / 2).copied();
                 let [s, b, p] = row.ratios();
                 println!(
                     "| {seed} | {d} | {s:.2}x | {b:.2}x | {p:.2}x | {} | {:.2}x |",
@@ -191,7 +197,7 @@ fn main() {
     let mut split: Option<usize> = None;
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
     let mut csv = None;
-    let (mut draws, mut from) = (None, 0u64);
+    let (mut draws, mut from, mut first) = (None, 0u64, false);
     let mut it = args.iter();
     while let Some(a) = it.next() {
         if a == "--steps" {
@@ -223,6 +229,8 @@ fn main() {
             );
         } else if a == "--csv" {
             csv = Some(it.next().expect("--csv PATH").clone());
+        } else if a == "--first" {
+            first = true;
         } else if a == "--scenes" {
             let list = it.next().expect("--scenes pile,rain");
             only = Some(list.split(',').map(str::to_string).collect());
@@ -231,10 +239,15 @@ fn main() {
         }
     }
     if let Some(count) = draws {
-        let csv = csv.unwrap_or(format!("{root}/docs/results/engines.csv"));
+        let file = if first {
+            "engines-first-step"
+        } else {
+            "engines"
+        };
+        let csv = csv.unwrap_or(format!("{root}/docs/results/{file}.csv"));
         let steps = if steps_given { steps } else { 60 };
         let repeat = if repeat_given { repeat } else { 3 };
-        space_draws(from, count, steps, repeat, &csv);
+        space_draws(from, count, steps, repeat, first, &csv);
         return;
     }
     let csv = csv.unwrap_or(format!("{root}/docs/results/rapier.csv"));

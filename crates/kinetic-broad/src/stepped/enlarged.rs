@@ -129,7 +129,6 @@ impl Paces {
         let (cheaper, dearer) = (look.min(file), look.max(file));
         let try_other = self.calls >= self.next_try && dearer <= TRY_AT_MOST * cheaper;
         if try_other {
-            self.next_try = self.calls + self.wait;
             self.trying = Some(cheaper);
         }
         (file < look) != try_other
@@ -144,6 +143,7 @@ impl Paces {
             } else {
                 TRY_EVERY
             };
+            self.next_try = self.calls + self.wait;
         }
         if work == 0 {
             return;
@@ -271,6 +271,14 @@ impl EnlargedPairs {
             for &i in changed {
                 self.boxes[i as usize] = boxes_now(i);
             }
+            if self.engine_index.is_none() {
+                // Whether the engine keeps an index, asked once of a box there (the first call
+                // then files every box: a look-up each would cost several times more).
+                if let Some(&i) = changed.iter().find(|&&i| self.boxes[i as usize].is_some()) {
+                    self.found.clear();
+                    self.engine_index = Some(engine_near(i, &mut self.found));
+                }
+            }
             if self.engine_index == Some(true) {
                 // Look the changed boxes up, or file every box, whichever this world's
                 // measured paces say costs less; the same pairs and events either way.
@@ -287,9 +295,6 @@ impl EnlargedPairs {
                     changed.len()
                 };
                 self.paces.measured(file, start.elapsed(), work);
-                return;
-            }
-            if self.look_up_in_engine(changed, engine_near, adds, deletes) {
                 return;
             }
         }
@@ -315,30 +320,20 @@ impl EnlargedPairs {
     }
 
     /// Brings the pairs of each box of `changed` to those it overlaps now, looked up in the
-    /// engine's own index of the boxes ([`crate::Engine::enlarged_near`]); `false`, with
-    /// nothing done, if the engine keeps none.
+    /// engine's own index of the boxes ([`crate::Engine::enlarged_near`]).
     fn look_up_in_engine(
         &mut self,
         changed: &[u32],
         engine_near: &dyn Fn(u32, &mut Vec<u32>) -> bool,
         adds: &mut Vec<(u32, u32)>,
         deletes: &mut Vec<(u32, u32)>,
-    ) -> bool {
+    ) {
         for &i in changed {
             let mut near = std::mem::take(&mut self.near);
             near.clear();
             if let Some(b) = self.boxes[i as usize] {
                 self.found.clear();
-                if self.engine_index.is_none() {
-                    let has = engine_near(i, &mut self.found);
-                    self.engine_index = Some(has);
-                    if !has {
-                        self.near = near;
-                        return false;
-                    }
-                } else {
-                    engine_near(i, &mut self.found);
-                }
+                engine_near(i, &mut self.found);
                 let boxes = &self.boxes;
                 let meets = |&j: &u32| j != i && boxes[j as usize].is_some_and(|c| c.overlaps(&b));
                 let found = self
@@ -359,7 +354,6 @@ impl EnlargedPairs {
         // In order, as a filing gives them: the same events whichever way they were found.
         adds.sort_unstable();
         deletes.sort_unstable();
-        true
     }
 
     /// Brings the pairs of each box of `changed` to those it overlaps now.
@@ -512,6 +506,37 @@ mod tests {
     use crate::aabb::{next, next_vec};
     use kinetic_core::Vec3;
     use std::collections::BTreeSet;
+
+    /// With look-ups priced lower, filing is tried after 16 calls, and after twice as many
+    /// each time it costs more than the look-ups would have.
+    #[test]
+    fn a_try_of_the_other_way_that_loses_waits_twice_as_long_for_the_next() {
+        let mut paces = Paces {
+            lookup: 100.0,
+            unit: 10.0,
+            ..Paces::default()
+        };
+        let mut tries = Vec::new();
+        for call in 1..=200u64 {
+            // 10 look-ups (1,000 ns) against a filing of 200 units (2,000 ns, then 2,500).
+            let file = paces.file(10, 200);
+            if file {
+                tries.push(call);
+            }
+            let (took, work) = if file { (3000, 200) } else { (1000, 10) };
+            paces.measured(file, std::time::Duration::from_nanos(took), work);
+        }
+        assert_eq!(tries, [16, 48, 112]);
+        // A try that wins brings the next one back to 16 calls on.
+        let file = (0..300).find(|_| paces.file(10, 200)).is_some();
+        assert!(file);
+        paces.measured(true, std::time::Duration::from_nanos(500), 200);
+        let calls = paces.calls;
+        let next = (1..=100)
+            .find(|_| paces.file(10, 200))
+            .expect("another try");
+        assert_eq!(paces.calls, calls + 16, "{next}");
+    }
 
     /// Boxes in a cube of which a few move, go and come each call, now and then many: the
     /// pairs held, and those the adds and deletes build, are always those of every box.
