@@ -70,7 +70,8 @@ pub(crate) struct Inserted {
 
 /// Notes the insertions the broad phase acts on (`ColliderOf`, `CollisionLayers`, `Sensor`,
 /// `ColliderDisabled` on colliders, `RigidBody` on bodies: each immutable or a marker, so an
-/// insertion is their only change).
+/// insertion is their only change), a sensor made a plain collider again, and the changes
+/// that take pairs out of avian's contact graph.
 pub(crate) fn observe_insertions(app: &mut App) {
     app.init_resource::<Inserted>();
     macro_rules! note {
@@ -83,6 +84,8 @@ pub(crate) fn observe_insertions(app: &mut App) {
     note!(Insert<ColliderOf>, colliders);
     note!(Insert<CollisionLayers>, colliders);
     note!(Add<Sensor>, colliders);
+    // avian takes a collider's pairs out of its contact graph when it stops being a sensor.
+    note!(Remove<Sensor>, colliders);
     note!(Add<ColliderDisabled>, colliders);
     note!(Insert<RigidBody>, bodies);
     macro_rules! recheck {

@@ -473,7 +473,8 @@ fn changed_midway(broad: Broad) {
 }
 
 /// Pairs that avian takes out of its contact graph while their boxes overlap (a joint with
-/// collisions disabled, a body disabled), let in again midway, are in the graph again as with
+/// collisions disabled, a body disabled, a sensor made a plain collider), let in again
+/// midway, are in the graph again as with
 /// avian's own broad phase: the plugin looks for a pair in the graph only when it may not be
 /// there.
 #[test]
@@ -487,10 +488,15 @@ fn pairs_taken_out_of_the_graph_and_let_in_again_come_back() {
         let b = spawn(&mut app, cuboid(Vec3::new(-3.0, 1.5, 0.0), unit));
         let c = spawn(&mut app, cuboid(Vec3::new(3.0, 0.5, 0.0), unit));
         spawn(&mut app, cuboid(Vec3::new(3.0, 1.5, 0.0), unit));
+        // A sensor sinking into the ground, made a plain crate again.
+        let sensor = spawn(&mut app, (cuboid(Vec3::new(8.0, 0.5, 0.0), unit), Sensor));
         let mut joint = None;
         for k in 0..120 {
             let missing = step_missing(&mut app, 0.0);
             match k {
+                10 => {
+                    app.world_mut().entity_mut(sensor).remove::<Sensor>();
+                }
                 // The joint's crates sink into each other; the disabled crate stays put.
                 30 => {
                     let j = (DistanceJoint::new(a, b), JointCollisionDisabled);
