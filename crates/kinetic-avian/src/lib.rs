@@ -46,8 +46,9 @@
 //! moved; the plugin looks a live pair up only where it may be missing: a new pair, a pair
 //! of a changed collider, or one it left out before (filtered, as avian asks again each time
 //! a box moves). avian's changes that take pairs out of the graph (a joint, a body disabled,
-//! enabled or made no body) make it look at every pair again as its colliders move; so does
-//! [`KineticBroadPhase::recheck_pairs`], for pairs taken out of the graph by hand.
+//! enabled or made no body, a sensor made a plain collider) make it look at those pairs
+//! again as their colliders move; so does [`KineticBroadPhase::recheck_pairs`], for pairs
+//! taken out of the graph by hand.
 //!
 //! With [`KineticBroadPhasePlugin::with_loose_grid`] the caller picks a kinetic structure
 //! instead: every collider is then a ball about its body's centre of mass (grown by avian's
