@@ -277,7 +277,12 @@ fn collect_pairs<H: CollisionHooks>(
     // colliders changed, and those of colliders whose enlarged boxes avian moved that were
     // not all found in the graph before. A collider that only jiggles within its enlarged
     // box costs nothing here.
-    let moved: Vec<_> = world.enlarged_moved(false).collect();
+    // (Between reads of every moved body, `moved` is already those.)
+    let moved: Vec<_> = if every {
+        world.enlarged_moved(false).collect()
+    } else {
+        moved
+    };
     let trust = !state.core.reads_every_move();
     let check = state.checks.pairs(&state.core, &modified, &moved, trust);
     let mut in_graph = Vec::with_capacity(check.len());
