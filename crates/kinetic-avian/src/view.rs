@@ -39,11 +39,9 @@ type ColliderItem = (
     &'static Collider,
     &'static Position,
     &'static Rotation,
-    &'static EnlargedAabb,
     &'static ColliderAabb,
     Option<&'static ColliderOf>,
     Option<&'static CollisionMargin>,
-    Option<&'static ColliderTreeProxyKey>,
     Has<ColliderDisabled>,
 );
 
@@ -204,7 +202,7 @@ impl Engine for AvianWorld<'_, '_> {
         let Some(e) = entity(c) else {
             return ColliderStatus::Missing;
         };
-        let Ok((collider, pos, rot, _, _, of, margin, _, disabled)) = self.colliders.get(e) else {
+        let Ok((collider, pos, rot, _, of, margin, disabled)) = self.colliders.get(e) else {
             return ColliderStatus::Missing;
         };
         if disabled {
@@ -246,7 +244,7 @@ impl Engine for AvianWorld<'_, '_> {
     /// collision margin, swept where speculative CCD asks), as avian's tree upkeep left it
     /// before the broad phase runs; computed here only for a box avian has not filled yet.
     fn bounds(&self, c: Key) -> Option<Aabb> {
-        let (collider, pos, rot, _, aabb, _, margin, _, disabled) =
+        let (collider, pos, rot, aabb, _, margin, disabled) =
             self.colliders.get(entity(c)?).ok()?;
         if disabled {
             return None;
