@@ -241,7 +241,13 @@ fn collect_pairs<H: CollisionHooks>(
     let state = &mut *state;
     let step = world.step();
     let every = !state.started || state.core.reads_every_move();
-    let (modified, removed, moved) = changes.collect(&world, &state.core, every);
+    let moves = match (state.started, every) {
+        // The first call: every collider is new, none has moved.
+        (false, _) => view::Moves::None,
+        (true, true) => view::Moves::Every,
+        (true, false) => view::Moves::Enlarged,
+    };
+    let (modified, removed, moved) = changes.collect(&world, &state.core, moves);
     if changes.take_recheck() || world.joints.is_changed() {
         // Pairs may have left the graph unseen: a joint, or a body disabled or retyped.
         state.checks.recheck_all();

@@ -119,6 +119,9 @@ pub(crate) struct AvianWorld<'w, 's> {
     colliders: Query<'w, 's, ColliderItem>,
     boxes: Query<'w, 's, BoxItem>,
     bodies: Query<'w, 's, BodyItem>,
+    /// What [`Engine::collider_on_boxes`] reads of a collider: its body and whether it is
+    /// disabled.
+    riding: Query<'w, 's, (Option<&'static ColliderOf>, Has<ColliderDisabled>), With<Collider>>,
     all: Query<'w, 's, Entity, With<Collider>>,
     pub(crate) trees: Res<'w, ColliderTrees>,
     /// The tree proxies whose enlarged boxes avian moved since the last broad phase.
@@ -240,6 +243,34 @@ impl Engine for AvianWorld<'_, '_> {
         }
     }
 
+    /// The body a collider on a moving body rides, without its reach (a world on avian's
+    /// enlarged boxes reads no more), or the box of a fixed one.
+    fn collider_on_boxes(&self, c: Key) -> ColliderStatus {
+        let Some((of, disabled)) = entity(c).and_then(|e| self.riding.get(e).ok()) else {
+            return ColliderStatus::Missing;
+        };
+        if disabled {
+            return ColliderStatus::Disabled;
+        }
+        let moving = of
+            .map(|of| of.body)
+            .filter(|&b| self.bodies.get(b).is_ok_and(|(rb, ..)| !rb.is_static()));
+        match moving {
+            Some(body) => ColliderStatus::Held(Bound::Moving {
+                body: key(body),
+                radius: 0.0,
+                slack: 0.0,
+            }),
+            None => self.collider(
+                c,
+                Slack {
+                    fraction: 0.0,
+                    min: 0.0,
+                },
+            ),
+        }
+    }
+
     /// avian's own box of the collider (`ColliderAabb`, grown by its contact tolerance and
     /// collision margin, swept where speculative CCD asks), as avian's tree upkeep left it
     /// before the broad phase runs; computed here only for a box avian has not filled yet.
@@ -321,6 +352,87 @@ pub(crate) struct Changes<'w, 's> {
     awake: Query<'w, 's, (&'static RigidBody, &'static RigidBodyColliders), Without<Sleeping>>,
     removed: RemovedComponents<'w, 's, Collider>,
     enabled: RemovedComponents<'w, 's, ColliderDisabled>,
+    /// The colliders changed, gathered once each.
+    modified: Local<'s, KeySet>,
+}
+
+/// Which moved colliders a call asks for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Moves {
+    /// None (the first call: every collider is new).
+    None,
+    /// Every collider on a body that moves and is awake, and those of bodies that fell
+    /// asleep since the last call (the core reads every moved body).
+    Every,
+    /// Those whose enlarged boxes avian moved.
+    Enlarged,
+}
+
+/// Keys gathered once each, handed back sorted: on the first step every collider comes
+/// several times over (its insertions and its body's), and sorting them all to drop the
+/// repeats cost the first step's broad phase a tenth of its time.
+#[derive(Default)]
+pub(crate) struct KeySet {
+    /// Per entity index, the generation held plus one (0: none).
+    held: Vec<u64>,
+    keys: Vec<Key>,
+    /// Keys whose index is held in another generation (an entity despawned and its index
+    /// taken again since the last call): rare, sorted with the rest.
+    others: Vec<Key>,
+}
+
+impl KeySet {
+    /// Adds `k` unless it is held.
+    fn push(&mut self, k: Key) {
+        let i = k.index as usize;
+        if self.held.len() <= i {
+            self.held.resize(i + 1, 0);
+        }
+        let g = u64::from(k.generation) + 1;
+        match self.held[i] {
+            0 => {
+                self.held[i] = g;
+                self.keys.push(k);
+            }
+            h if h == g => {}
+            _ => self.others.push(k),
+        }
+    }
+
+    /// The keys held, sorted, each once; the set is left empty.
+    fn take_sorted(&mut self) -> Vec<Key> {
+        let mut keys = std::mem::take(&mut self.keys);
+        if keys.len() * 16 < self.held.len() {
+            // A few: sorted as they are.
+            for k in &keys {
+                self.held[k.index as usize] = 0;
+            }
+            keys.sort_unstable();
+        } else {
+            // Many against the indices: read off in index order.
+            keys.clear();
+            for (i, h) in self.held.iter_mut().enumerate() {
+                if *h != 0 {
+                    keys.push(Key::new(i as u32, (*h - 1) as u32));
+                    *h = 0;
+                }
+            }
+        }
+        if !self.others.is_empty() {
+            keys.append(&mut self.others);
+            keys.sort_unstable();
+            keys.dedup();
+        }
+        keys
+    }
+}
+
+impl Extend<Key> for KeySet {
+    fn extend<I: IntoIterator<Item = Key>>(&mut self, keys: I) {
+        for k in keys {
+            self.push(k);
+        }
+    }
 }
 
 impl Changes<'_, '_> {
@@ -330,16 +442,16 @@ impl Changes<'_, '_> {
         std::mem::take(&mut self.inserted.recheck)
     }
 
-    /// The colliders changed by the user (or new), those removed, and those moved: with
-    /// `every` (the core reads every moved body), all those on bodies that move and are
-    /// awake; else those whose enlarged boxes avian moved.
+    /// The colliders changed by the user (or new), those removed, and those moved, as
+    /// `moves` asks for them.
     pub(crate) fn collect(
         &mut self,
         world: &AvianWorld,
         core: &BroadPhaseCore,
-        every: bool,
+        moves: Moves,
     ) -> (Vec<Key>, Vec<Key>, Vec<Key>) {
-        let mut modified: Vec<Key> = self.changed.iter().map(key).collect();
+        let modified = &mut *self.modified;
+        modified.extend(self.changed.iter().map(key));
         // Those inserted on colliders still there, and the colliders of retyped bodies.
         let inserted = &mut *self.inserted;
         let there = |e: &Entity| world.all.contains(*e);
@@ -350,40 +462,70 @@ impl Changes<'_, '_> {
             }
         }
         let mut moved = Vec::new();
-        // Between reads of every moved body, what avian's own box upkeep saw move: the
-        // fixed colliders the user moved out of their enlarged boxes (one moved within its
-        // box keeps it, as in avian's own broad phase) and the moving ones.
-        if !every {
-            modified.extend(world.enlarged_moved(true));
-            moved.extend(world.enlarged_moved(false));
-        } else {
-            for (e, of) in &self.placed {
-                let k = key(e);
-                let body = of.map(|of| of.body);
-                // A collider held on a moving body: its moves come with the body's.
-                let known = core.on_moving_body(k);
-                if !known && world.is_static_body(body) {
-                    modified.push(k);
-                } else if body.is_some_and(|b| world.is_sleeping(b)) {
-                    // Moved in the last step, then fell asleep (or was put to sleep) before this
-                    // call: its box is where the step left it.
-                    moved.push(k);
+        match moves {
+            Moves::None => {}
+            // What avian's own box upkeep saw move: the fixed colliders the user moved out
+            // of their enlarged boxes (one moved within its box keeps it, as in avian's own
+            // broad phase) and the moving ones.
+            Moves::Enlarged => {
+                modified.extend(world.enlarged_moved(true));
+                moved.extend(world.enlarged_moved(false));
+            }
+            Moves::Every => {
+                for (e, of) in &self.placed {
+                    let k = key(e);
+                    let body = of.map(|of| of.body);
+                    // A collider held on a moving body: its moves come with the body's.
+                    let known = core.on_moving_body(k);
+                    if !known && world.is_static_body(body) {
+                        modified.push(k);
+                    } else if body.is_some_and(|b| world.is_sleeping(b)) {
+                        // Moved in the last step, then fell asleep (or was put to sleep)
+                        // before this call: its box is where the step left it.
+                        moved.push(k);
+                    }
+                }
+                for (rb, colliders) in &self.awake {
+                    if !rb.is_static() {
+                        moved.extend(colliders.iter().map(key));
+                    }
                 }
             }
         }
         modified.extend(self.enabled.read().map(key));
-        modified.sort_unstable();
-        modified.dedup();
+        let modified = modified.take_sorted();
         let mut removed: Vec<Key> = self.removed.read().map(key).collect();
         removed.sort_unstable();
         removed.dedup();
-        if every {
-            for (rb, colliders) in &self.awake {
-                if !rb.is_static() {
-                    moved.extend(colliders.iter().map(key));
-                }
-            }
-        }
         (modified, removed, moved)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Keys come back sorted and each once, whether few against the indices seen or many,
+    /// an index taken again in another generation included; the set is then empty.
+    #[test]
+    fn a_key_set_gives_each_key_once_in_order() {
+        let mut set = KeySet::default();
+        for many in [false, true] {
+            let mut want = Vec::new();
+            // Few: 4 keys among 76 indices; many: 100 among 100.
+            let (top, apart) = if many { (100, 1) } else { (4, 25) };
+            for i in (0..top).rev() {
+                let k = Key::new(i * apart, 1);
+                set.extend([k, k]);
+                want.push(k);
+            }
+            // Index 0 in another generation, and in the first again.
+            set.extend([Key::new(0, 7), Key::new(0, 1), Key::new(0, 7)]);
+            want.push(Key::new(0, 7));
+            want.sort_unstable();
+            want.dedup();
+            assert_eq!(set.take_sorted(), want, "many: {many}");
+            assert!(set.take_sorted().is_empty());
+        }
     }
 }

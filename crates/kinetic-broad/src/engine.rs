@@ -47,6 +47,20 @@ pub struct BodyState {
 pub trait Engine {
     /// How collider `c` is held now, with `slack` for a moving body.
     fn collider(&self, c: Key, slack: Slack) -> ColliderStatus;
+    /// How collider `c` is held, for a world that steps on the engine's enlarged boxes for
+    /// good ([`Engine::enlarged`]): such a world reads of a collider on a moving body only
+    /// which body it is, never its ball, so an engine may leave the radius and slack at zero
+    /// rather than work out the collider's reach (a hull's bounding sphere), as long as it
+    /// always does. The default asks [`Engine::collider`].
+    fn collider_on_boxes(&self, c: Key) -> ColliderStatus {
+        self.collider(
+            c,
+            Slack {
+                fraction: 0.0,
+                min: 0.0,
+            },
+        )
+    }
     /// Body `b`'s state, or `None` if the engine has no such body.
     fn body(&self, b: Key) -> Option<BodyState>;
     /// Body `b`'s centre of mass and linear velocity, as [`Engine::body`] gives them: all a

@@ -129,7 +129,8 @@ pub struct BroadPhaseCore {
     /// Whether the caller chose the structure (it then stays kinetic).
     choice_given: bool,
     /// Whether the engine keeps enlarged boxes of its own ([`crate::Engine::enlarged`]),
-    /// found from the first colliders: the world then steps for good.
+    /// found from the first colliders: the world then steps for good, on those boxes, and
+    /// keeps no plans (a collider is read with [`crate::Engine::collider_on_boxes`]).
     engine_boxes: bool,
     /// The stepped mode's state while the world is stepped ([`mode`]).
     stepped: Option<mode::Stepped>,

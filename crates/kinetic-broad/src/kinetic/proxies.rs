@@ -160,18 +160,21 @@ impl BroadPhaseCore {
         if new.is_empty() {
             return;
         }
-        // Each moving hold's body read once. A moving hold whose body the engine does not
-        // give breaks the contract: the collider waits until it is changed again.
+        // Each moving hold's body read once (for its plan: none on the engine's boxes). A
+        // moving hold whose body the engine does not give breaks the contract: the collider
+        // waits until it is changed again.
+        let plans = !self.engine_boxes;
         let holds: Vec<(Key, Bound, Option<BodyState>)> = new
             .iter()
             .filter_map(|&(h, hold)| match hold {
-                Bound::Moving { body, .. } => engine.body(body).map(|s| (h, hold, Some(s))),
-                Bound::Fixed { .. } => Some((h, hold, None)),
+                Bound::Moving { body, .. } if plans => {
+                    engine.body(body).map(|s| (h, hold, Some(s)))
+                }
+                _ => Some((h, hold, None)),
             })
             .collect();
         if self.loose_grid.is_none() {
-            self.loose_grid = Some(loose_grid_fits(&holds));
-            self.engine_boxes = holds.iter().any(|&(h, ..)| engine.enlarged(h).is_some());
+            self.loose_grid = Some(plans && loose_grid_fits(&holds));
         }
         if self.structure.is_none() && !self.is_stepped() {
             // A world starts stepped, its first steps showing whether plans hold; one of
@@ -191,7 +194,9 @@ impl BroadPhaseCore {
             Bound::Moving { body, .. } => Some(body.index as usize),
             Bound::Fixed { .. } => None,
         });
-        if let Some(last) = bodies.max() {
+        if let Some(last) = bodies.max()
+            && plans
+        {
             self.motions.reach(last);
         }
         // Plans first: a body seen for the first time gets a plan fitted to its state now; a

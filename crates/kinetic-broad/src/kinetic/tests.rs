@@ -20,8 +20,11 @@ struct Toy {
     removed: Vec<Key>,
     /// The pairs the toy's narrow phase holds.
     pairs: Vec<(Key, Key)>,
-    /// Whether it gives its colliders' boxes ([`Engine::bounds`]).
+    /// Whether it gives its colliders' boxes ([`Engine::bounds`]), and boxes enlarged
+    /// about them ([`Engine::enlarged`]: grown by 0.1, moved with every collider it lists
+    /// as moved).
     boxes: bool,
+    enlarged: bool,
 }
 
 const STEP: EngineStep = EngineStep {
@@ -45,6 +48,11 @@ impl Engine for Toy {
 
     fn body(&self, b: Key) -> Option<BodyState> {
         self.bodies.iter().find(|(k, _)| *k == b).map(|(_, s)| *s)
+    }
+
+    fn enlarged(&self, c: Key) -> Option<Aabb> {
+        let b = self.bounds(c).filter(|_| self.enlarged)?;
+        Some(b.grown(Vec3::splat(0.1)))
     }
 
     fn bounds(&self, c: Key) -> Option<Aabb> {
@@ -217,6 +225,42 @@ fn resting_bodies_cost_nothing_and_a_disabled_collider_drops_out() {
     toy.step(&mut core);
     assert!(!core.knows(middle));
     assert_eq!(core.held(), 3);
+    assert_eq!(core.audit_error(), None);
+}
+
+/// An engine that keeps enlarged boxes of its own: the world steps on them for good, keeps
+/// no plans (it reads no body to fit one), and hands over the pairs whose boxes overlap.
+#[test]
+fn a_world_on_the_engine_s_enlarged_boxes_keeps_no_plans() {
+    let mut toy = Toy::new(&[0.0, 0.9, 5.0]);
+    toy.boxes = true;
+    toy.enlarged = true;
+    let mut core = BroadPhaseCore::new().with_audit();
+    for _ in 0..60 {
+        toy.step(&mut core);
+    }
+    assert_eq!(core.structure_name(), "stepped");
+    assert!(!core.reads_every_move());
+    assert_eq!(core.motions.iter().count(), 0);
+    // The three balls on the ground, and the two 0.9 apart (radius 0.5) with each other.
+    let mut pairs = toy.pairs.clone();
+    pairs.sort_unstable();
+    let k = |i| Key::new(i, 0);
+    assert_eq!(
+        pairs,
+        [(k(0), k(1)), (k(0), k(2)), (k(0), k(3)), (k(1), k(2))]
+    );
+    // A ball moved onto another body is held afresh, on it.
+    toy.colliders[3].1 = Part::Ball {
+        body: k(0),
+        radius: 0.5,
+    };
+    toy.modified.push(k(3));
+    for _ in 0..5 {
+        toy.step(&mut core);
+    }
+    assert!(core.has_pair(k(1), k(3)) && core.has_pair(k(2), k(3)));
+    assert_eq!(core.movers[3], Some((0, 0)));
     assert_eq!(core.audit_error(), None);
 }
 

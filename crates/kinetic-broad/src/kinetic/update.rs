@@ -72,6 +72,12 @@ impl BroadPhaseCore {
             self.remove_collider(h);
         }
 
+        if self.loose_grid.is_none() {
+            // The first colliders tell whether the engine keeps enlarged boxes.
+            self.engine_boxes = modified_colliders
+                .iter()
+                .any(|&h| engine.enlarged(h).is_some());
+        }
         let mut new = Vec::new();
         let mut moved: Vec<Key> = Vec::new();
         // A stepped world passes over its bodies only now and then: between, a position
@@ -102,7 +108,12 @@ impl BroadPhaseCore {
                     continue;
                 }
             }
-            let hold = match engine.collider(h, self.slack) {
+            let status = if self.engine_boxes {
+                engine.collider_on_boxes(h)
+            } else {
+                engine.collider(h, self.slack)
+            };
+            let hold = match status {
                 ColliderStatus::Missing => continue,
                 ColliderStatus::Disabled => {
                     self.remove_collider(h);
