@@ -90,7 +90,7 @@ impl BroadPhaseCore {
         if let Some(st) = &self.stepped {
             let (filings, refattened) = st.fat_counts();
             return BroadPhaseStats {
-                pairs: self.handed.handed(),
+                pairs: self.handed_count(),
                 candidates: st.pair_count(),
                 fat_filings: self.stats.fat_filings + filings,
                 refattened: self.stats.refattened + refattened,
@@ -123,7 +123,11 @@ impl BroadPhaseCore {
 
     /// Whether the engine has the pair of these two colliders by this broad phase.
     pub fn has_pair(&self, a: Key, b: Key) -> bool {
-        self.knows(a) && self.knows(b) && self.handed.has(a.index, b.index)
+        let has = match &self.stepped {
+            Some(st) if st.on_engine_boxes() => st.holds(a.index, b.index),
+            _ => self.handed.has(a.index, b.index),
+        };
+        self.knows(a) && self.knows(b) && has
     }
 
     /// The colliders with which the engine has a pair with collider `c` by this broad
@@ -131,7 +135,32 @@ impl BroadPhaseCore {
     /// own pair list need not keep another beside it.
     pub fn partners(&self, c: Key) -> impl Iterator<Item = Key> + '_ {
         let known = self.knows(c);
-        self.handed.partners(c.index).filter(move |_| known)
+        // On the engine's enlarged boxes, the pairs are kept per box there.
+        let on_boxes = self
+            .stepped
+            .as_ref()
+            .and_then(|st| st.enlarged_partners(c.index));
+        let linked = on_boxes.is_none().then(|| self.handed.partners(c.index));
+        let paired = on_boxes.unwrap_or(&[]).iter();
+        let paired = paired.filter_map(|&j| self.proxies.get(j as usize).copied().flatten());
+        linked
+            .into_iter()
+            .flatten()
+            .chain(paired.map(|p| p.key))
+            .filter(move |_| known)
+    }
+
+    /// How many pairs the engine has by this broad phase.
+    pub(super) fn handed_count(&self) -> usize {
+        match &self.stepped {
+            Some(st) if st.on_engine_boxes() => st.pair_count(),
+            _ => self.handed.handed(),
+        }
+    }
+
+    /// Whether the world steps on the engine's enlarged boxes (for good).
+    pub(super) fn on_engine_boxes(&self) -> bool {
+        self.stepped.as_ref().is_some_and(|st| st.on_engine_boxes())
     }
 
     /// Whether the broad phase holds the pair of these two colliders: their proxies can
@@ -150,7 +179,7 @@ impl BroadPhaseCore {
     /// a world stepped on the engine's enlarged boxes ([`crate::Engine::enlarged`]), where
     /// the engine need list only the colliders whose enlarged boxes it moved.
     pub fn reads_every_move(&self) -> bool {
-        self.stepped.as_ref().is_none_or(|st| !st.on_engine_boxes())
+        !self.on_engine_boxes()
     }
 
     /// Whether collider `c` is held on a moving body (its moves come with its body's).

@@ -205,6 +205,16 @@ impl BroadPhaseCore {
         starts: bool,
         events: &mut Vec<PairEvent>,
     ) {
+        if self.on_engine_boxes() {
+            // The pairs held are those of the engine's enlarged boxes, kept per box there:
+            // each is the engine's, and passes as it is.
+            for &e in held {
+                self.count_event(matches!(e, PairEvent::Add(..)));
+            }
+            events.extend_from_slice(held);
+            events.sort_unstable();
+            return;
+        }
         let mut h = std::mem::take(&mut self.handed);
         h.call = h.call.wrapping_add(1).max(1);
         let stepped = self.is_stepped();

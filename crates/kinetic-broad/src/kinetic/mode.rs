@@ -194,6 +194,12 @@ impl Stepped {
             .map_or(self.reported.len(), |e| e.count())
     }
 
+    /// On the engine's enlarged boxes, the colliders paired with collider `i` (`None`
+    /// otherwise).
+    pub(super) fn enlarged_partners(&self, i: u32) -> Option<&[u32]> {
+        self.enlarged.as_ref().map(|e| e.partners(i))
+    }
+
     /// Whether the engine has the pair of colliders `a` and `b`.
     pub(super) fn holds(&self, a: u32, b: u32) -> bool {
         match &self.enlarged {

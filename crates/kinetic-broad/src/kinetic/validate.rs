@@ -132,10 +132,10 @@ impl BroadPhaseCore {
                 ));
             }
         }
-        if handed != self.handed.handed() {
+        if handed != self.handed_count() {
             return Err(format!(
                 "{} pairs handed to the engine, {handed} of them held",
-                self.handed.handed()
+                self.handed_count()
             ));
         }
         // Each collider's partners are its handed pairs, each once.

@@ -194,6 +194,11 @@ impl EnlargedPairs {
         self.count
     }
 
+    /// The boxes paired with box `i`.
+    pub(crate) fn partners(&self, i: u32) -> &[u32] {
+        self.partners.get(i as usize).map_or(&[], |p| &p[..])
+    }
+
     /// Whether boxes `a` and `b` are paired.
     pub(crate) fn has(&self, a: u32, b: u32) -> bool {
         self.partners
