@@ -451,14 +451,21 @@ impl Changes<'_, '_> {
         moves: Moves,
     ) -> (Vec<Key>, Vec<Key>, Vec<Key>) {
         let modified = &mut *self.modified;
-        modified.extend(self.changed.iter().map(key));
-        // Those inserted on colliders still there, and the colliders of retyped bodies.
         let inserted = &mut *self.inserted;
-        let there = |e: &Entity| world.all.contains(*e);
-        modified.extend(inserted.colliders.drain(..).filter(there).map(key));
-        for body in inserted.bodies.drain(..) {
-            if let Ok(colliders) = self.held.get(body) {
-                modified.extend(colliders.iter().map(key));
+        if moves == Moves::None {
+            // The first call: every collider is new.
+            inserted.colliders.clear();
+            inserted.bodies.clear();
+            modified.extend(world.all.iter().map(key));
+        } else {
+            modified.extend(self.changed.iter().map(key));
+            // Those inserted on colliders still there, and the colliders of retyped bodies.
+            let there = |e: &Entity| world.all.contains(*e);
+            modified.extend(inserted.colliders.drain(..).filter(there).map(key));
+            for body in inserted.bodies.drain(..) {
+                if let Ok(colliders) = self.held.get(body) {
+                    modified.extend(colliders.iter().map(key));
+                }
             }
         }
         let mut moved = Vec::new();
