@@ -23,7 +23,8 @@
 //!   plans hold again. The choice is made from counts, so a run is the same every time.
 //! - An engine that keeps enlarged boxes of its own ([`Engine::enlarged`]: avian's) is
 //!   stepped for good on them: each call looks only at the boxes the engine moved and keeps
-//!   the pairs of the others, so it costs what changed.
+//!   the pairs of the others, so it costs what changed. Such a world keeps no plans and
+//!   reads of a collider only the body it rides ([`Engine::collider_on_boxes`]).
 //!
 //! The source shows the two halves: `kinetic/` holds the core and its kinetic structure's
 //! proxies, plans and pairs; `stepped/` the per-step filing (grid, sort and sweep, fat boxes,
