@@ -261,13 +261,7 @@ impl Engine for AvianWorld<'_, '_> {
                 radius: 0.0,
                 slack: 0.0,
             }),
-            None => self.collider(
-                c,
-                Slack {
-                    fraction: 0.0,
-                    min: 0.0,
-                },
-            ),
+            None => self.collider(c, Slack::NONE),
         }
     }
 

@@ -53,13 +53,7 @@ pub trait Engine {
     /// rather than work out the collider's reach (a hull's bounding sphere), as long as it
     /// always does. The default asks [`Engine::collider`].
     fn collider_on_boxes(&self, c: Key) -> ColliderStatus {
-        self.collider(
-            c,
-            Slack {
-                fraction: 0.0,
-                min: 0.0,
-            },
-        )
+        self.collider(c, Slack::NONE)
     }
     /// Body `b`'s state, or `None` if the engine has no such body.
     fn body(&self, b: Key) -> Option<BodyState>;

@@ -43,6 +43,14 @@ pub struct Slack {
     pub min: Real,
 }
 
+impl Slack {
+    /// No slack: a hold read only for which body it rides ([`crate::Engine::collider_on_boxes`]).
+    pub const NONE: Slack = Slack {
+        fraction: 0.0,
+        min: 0.0,
+    };
+}
+
 impl Bound {
     /// The hold for a collider on a moving body `body`: the collider reaches `reach` from the
     /// body's centre of mass, and the engine's contact margins add `margin`.
