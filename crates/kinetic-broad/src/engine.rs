@@ -78,6 +78,17 @@ pub trait Engine {
         let _ = c;
         None
     }
+    /// How far ahead the engine's narrow phase looks for body `b`, given `d`, the move the
+    /// broad phase expects of it over the coming step: two boxes ([`Engine::bounds`]) that
+    /// do not overlap now make a pair of the engine's when they meet swept by these moves.
+    /// The default, `d`: the pair is the engine's when the boxes meet at any moment of the
+    /// step. An engine that tests its pairs at the poses it has now returns zero (rapier,
+    /// whose own broad phase takes the boxes where they are), or the move cut to what it
+    /// predicts (rapier's soft CCD). Asked only for boxes that do not overlap now.
+    fn ahead(&self, b: Key, d: Vec3) -> Vec3 {
+        let _ = b;
+        d
+    }
     /// Collider `c`'s enlarged box, if the engine keeps one as its own broad phase does: a
     /// box about [`Engine::bounds`] that the engine moves only when the collider leaves it
     /// (avian's `EnlargedAabb`). A stepped world then files this box as it is, unswept, and

@@ -156,6 +156,22 @@ impl Engine for Rapier<'_> {
         }
     }
 
+    /// rapier's own broad phase takes each box where it is, and sweeps it ahead only for a
+    /// body with soft CCD, to where its velocity and forces take it over the step, by at
+    /// most its soft-CCD distance: so does this one (by the move of its centre of mass).
+    fn ahead(&self, b: Key, _d: Vec3) -> Vec3 {
+        let Some(rb) = self.rigid_body(b) else {
+            return Vec3::ZERO;
+        };
+        let soft = rb.soft_ccd_prediction() as Real;
+        if soft <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let next = rb.predict_position_using_velocity_and_forces(self.params.dt);
+        let to = dpoint(&(next * rb.local_center_of_mass()));
+        (to - centre_of_mass(rb)).clamp_length_max(soft)
+    }
+
     fn body(&self, b: Key) -> Option<BodyState> {
         let rb = self.rigid_body(b)?;
         Some(BodyState {

@@ -1,13 +1,14 @@
 //! The engine's own pairs: of the pairs the broad phase holds (its proxies can meet within the
 //! step), the engine gets those whose boxes, as the engine grows them ([`Engine::bounds`]),
-//! meet within the step, each swept along its body's velocity over the step. A proxy is a
+//! meet within the step, each swept along its body's velocity over the step as far as the
+//! engine looks ahead ([`Engine::ahead`]: rapier, at its poses now). A proxy is a
 //! ball about a body that holds its collider at every orientation, a fat box, or a region of
 //! a grid: filters inside the broad phase, never pairs of the engine. A pair held but not
 //! handed is looked at again when one of its colliders moves; a resting world costs nothing.
 //!
 //! Every contact the engine can make is between colliders whose boxes, grown by its margins,
 //! overlap: so the engine keeps every contact its own broad phase would give it. A stepped
-//! world's pairs are already those of the boxes swept over the step: they pass as they are.
+//! world's pairs are already the engine's: they pass as they are.
 
 use super::BroadPhaseCore;
 use crate::Aabb;
@@ -318,16 +319,17 @@ impl BroadPhaseCore {
 
     /// Collider `c`'s box as the engine grows it (for an engine that gives no boxes, the
     /// ball of its hold about its body's centre, or a fixed collider's own box), swept along
-    /// its body's velocity over `dt` (a sleeping body's as it is); everywhere when unknown.
+    /// its body's velocity over `dt` as far as the engine looks ahead ([`Engine::ahead`]; a
+    /// sleeping body's as it is); everywhere when unknown.
     fn swept_bounds(&self, engine: &impl Engine, c: Key, dt: Real) -> Aabb {
         let everywhere = Aabb::EVERYWHERE;
         let hold = self.proxies.get(c.index as usize).copied().flatten();
         let (state, own) = match hold.map(|p| p.hold) {
             Some(Bound::Moving { body, radius, .. }) => {
-                let state = engine.body(body);
+                let state = engine.body(body).map(|s| (body, s));
                 let own = engine.bounds(c).or_else(|| {
                     let r = Vec3::splat(radius);
-                    state.map(|s| Aabb::about(s.centre, r))
+                    state.map(|(_, s)| Aabb::about(s.centre, r))
                 });
                 (state, own)
             }
@@ -339,10 +341,10 @@ impl BroadPhaseCore {
         let Some(own) = own else {
             return everywhere;
         };
-        let v = state
-            .filter(|s| !s.sleeping)
-            .map_or(Vec3::ZERO, |s| s.velocity);
-        let d = v * dt;
+        let d = match state.filter(|(_, s)| !s.sleeping) {
+            Some((body, s)) if s.velocity != Vec3::ZERO => engine.ahead(body, s.velocity * dt),
+            _ => Vec3::ZERO,
+        };
         if !d.is_finite() {
             return everywhere;
         }

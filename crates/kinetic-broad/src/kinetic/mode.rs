@@ -44,10 +44,10 @@
 //! and deletes for the difference, and back to the kinetic book, which adopts those it holds
 //! and deletes the others.
 
-use super::{BroadPhaseCore, REGION_MARGIN, REGION_STEPS};
+use super::{BroadPhaseCore, Proxy, REGION_MARGIN, REGION_STEPS};
 use crate::Aabb;
 use crate::stepped::{
-    EnlargedPairs, FatPairs, Resting, meet_within_step, sorted_difference, typical_move,
+    EnlargedPairs, FatPairs, Resting, meet_ahead, sorted_difference, typical_move,
 };
 use crate::{Bound, Engine, Key, PairEvent};
 use kinetic_core::{Real, Vec3};
@@ -663,21 +663,31 @@ impl BroadPhaseCore {
                 )
             })
         };
+        // How far ahead the engine looks for the body a moving box rides.
+        let proxies = &self.proxies;
+        let ahead = |i: u32, d: Vec3| match proxies.get(i as usize).copied().flatten() {
+            Some(Proxy {
+                hold: Bound::Moving { body, .. },
+                ..
+            }) if d != Vec3::ZERO => engine.ahead(body, d),
+            _ => d,
+        };
         let keep_still = |a: u32, b: u32| match (still(a), still(b)) {
-            (Some(x), Some(y)) => meet_within_step(x, y),
+            (Some(x), Some(y)) => meet_ahead((a, x), (b, y), &ahead),
             _ => true,
         };
         let split = st
             .resting
             .pairs(boxes, changed, call, &keep_still, &mut st.found);
         if !split {
-            Self::plain_pairs(st);
+            Self::plain_pairs(st, &ahead);
         }
         self.hand_difference(st, events);
     }
 
-    /// The stepped pairs of every box, from the fat boxes or the grid.
-    fn plain_pairs(st: &mut Stepped) {
+    /// The stepped pairs of every box, from the fat boxes or the grid, each box looking as
+    /// far ahead as `ahead` says ([`meet_ahead`]).
+    fn plain_pairs(st: &mut Stepped, ahead: &impl Fn(u32, Vec3) -> Vec3) {
         // Of the pairs whose swept boxes overlap, those whose boxes meet as they move: two
         // bodies falling side by side are not a pair.
         // Two boxes meet as they move in any frame that moves steadily: the boxes are swept
@@ -694,7 +704,7 @@ impl BroadPhaseCore {
         };
         let boxes = &st.boxes;
         let keep = |a: u32, b: u32| match (boxes[a as usize], boxes[b as usize]) {
-            (Some(x), Some(y)) => meet_within_step(x, y),
+            (Some(x), Some(y)) => meet_ahead((a, x), (b, y), ahead),
             _ => true,
         };
         st.grid.pairs(boxes, frame, &keep, &mut st.found);

@@ -25,6 +25,9 @@ struct Toy {
     /// as moved).
     boxes: bool,
     enlarged: bool,
+    /// Whether its narrow phase tests pairs at the poses it has now ([`Engine::ahead`]
+    /// zero), rather than over the coming step.
+    at_poses: bool,
 }
 
 const STEP: EngineStep = EngineStep {
@@ -48,6 +51,10 @@ impl Engine for Toy {
 
     fn body(&self, b: Key) -> Option<BodyState> {
         self.bodies.iter().find(|(k, _)| *k == b).map(|(_, s)| *s)
+    }
+
+    fn ahead(&self, _b: Key, d: Vec3) -> Vec3 {
+        if self.at_poses { Vec3::ZERO } else { d }
     }
 
     fn enlarged(&self, c: Key) -> Option<Aabb> {
@@ -474,4 +481,78 @@ fn a_world_fallen_asleep_costs_nothing_a_step_and_a_woken_body_is_seen() {
     }
     assert!(met, "the woken ball's pair was never handed over");
     assert_eq!(core.audit_error(), None);
+}
+
+/// Whether the pairs the toy has are exactly those of its colliders whose boxes overlap now.
+fn pairs_of_boxes_now(toy: &Toy) -> bool {
+    let mut want = Vec::new();
+    for (k, (a, ..)) in toy.colliders.iter().enumerate() {
+        for (b, ..) in &toy.colliders[k + 1..] {
+            if let (Some(x), Some(y)) = (toy.bounds(*a), toy.bounds(*b))
+                && x.overlaps(&y)
+            {
+                want.push(if a.index < b.index {
+                    (*a, *b)
+                } else {
+                    (*b, *a)
+                });
+            }
+        }
+    }
+    let mut have = toy.pairs.clone();
+    want.sort_unstable();
+    have.sort_unstable();
+    want == have
+}
+
+#[test]
+fn an_engine_that_tests_pairs_where_they_are_gets_the_pairs_of_boxes_overlapping_now() {
+    // 100 balls on the ground 1.05 apart (boxes 0.03 apart): jostled (stepped), then calm
+    // (kinetic) with one ball rolling into its neighbour. An engine that looks ahead over
+    // the step is handed pairs before their boxes meet; one that tests pairs at its poses
+    // now ([`Engine::ahead`] zero, as rapier) gets those of the boxes overlapping now.
+    for at_poses in [true, false] {
+        let xs: Vec<Real> = (0..100).map(|k| k as Real * 1.05).collect();
+        let mut toy = Toy::new(&xs);
+        (toy.boxes, toy.at_poses) = (true, at_poses);
+        let mut core = BroadPhaseCore::new().with_audit();
+        let (mut s, mut now, mut ahead) = (9, 0, 0);
+        let mut modes = Vec::new();
+        let mut step = |toy: &mut Toy, core: &mut BroadPhaseCore| {
+            toy.step(core);
+            touching_pairs_are_held(toy);
+            if pairs_of_boxes_now(toy) {
+                now += 1;
+            } else {
+                ahead += 1;
+            }
+            modes.push(core.structure_name());
+        };
+        for _ in 0..90 {
+            for (_, b) in &mut toy.bodies {
+                b.velocity.x = 2.0 * jitter(&mut s);
+            }
+            step(&mut toy, &mut core);
+        }
+        for (_, b) in &mut toy.bodies {
+            b.velocity = Vec3::ZERO;
+        }
+        for _ in 0..250 {
+            step(&mut toy, &mut core);
+        }
+        toy.bodies[40].1.velocity.x = 0.5;
+        for _ in 0..30 {
+            step(&mut toy, &mut core);
+        }
+        assert!(
+            modes.contains(&"stepped") && modes.contains(&"loose-grid"),
+            "{modes:?}"
+        );
+        if at_poses {
+            assert_eq!(ahead, 0, "steps with pairs of boxes apart");
+        } else {
+            assert!(ahead > 10, "{ahead} steps looking ahead, {now} not");
+        }
+        assert_eq!(core.audit_error(), None);
+    }
 }

@@ -189,7 +189,7 @@ fn few_candidates_give_fat_boxes_covering_more_steps() {
 /// in any frame the boxes are swept in).
 #[test]
 fn boxes_falling_together_are_held_by_fat_boxes_riding_with_them() {
-    use crate::stepped::meet_within_step;
+    use crate::stepped::moves::meet_within_step;
     let side = 10;
     let n = side * side * side;
     let g = Vec3::new(0.0, -0.003, 0.0);

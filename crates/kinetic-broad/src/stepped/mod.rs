@@ -26,6 +26,6 @@ mod sweep;
 pub(crate) use enlarged::EnlargedPairs;
 pub(crate) use fat_pairs::FatPairs;
 pub(crate) use grid::SteppedGrid;
-pub(crate) use moves::{meet_within_step, typical_move};
+pub(crate) use moves::{meet_ahead, typical_move};
 pub(crate) use resting::Resting;
 pub(crate) use sorted::sorted_difference;

@@ -62,6 +62,18 @@ pub(crate) fn meet_within_step(
     t0 <= t1
 }
 
+/// Whether boxes `x` and `y` of colliders `a` and `b` (each with the move expected of it
+/// over the step) make a pair of the engine's: they overlap now, or meet within the step
+/// swept by the moves the engine looks ahead (`ahead(i, d)`, [`crate::Engine::ahead`],
+/// asked only of boxes that do not overlap now).
+pub(crate) fn meet_ahead(
+    (a, x): (u32, (Aabb, Vec3)),
+    (b, y): (u32, (Aabb, Vec3)),
+    ahead: &impl Fn(u32, Vec3) -> Vec3,
+) -> bool {
+    x.0.overlaps(&y.0) || meet_within_step((x.0, ahead(a, x.1)), (y.0, ahead(b, y.1)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
