@@ -44,11 +44,13 @@
 //! rapier 0.27 calls the broad phase once at the start of each step (the user's changes,
 //! positions unchanged) and once after each position update. After a position update the
 //! structure is advanced one step ahead, through its own events in time order, and the
-//! structure's candidates of the step are held. Of those, rapier gets its own pairs
-//! (`AddPair`): those whose boxes, grown by the prediction distance and contact skin as
-//! rapier grows them, each swept along its body's velocity over the step, meet, so a fast
-//! body cannot skip a pair between steps and the narrow phase gets no pair its own broad
-//! phase would not give it. A pair is deleted (`DeletePair`) once those boxes part, so never
+//! structure's candidates of the step are held: a fast body cannot skip one between steps.
+//! Of those, rapier gets its own pairs (`AddPair`): those whose boxes, grown by the
+//! prediction distance and contact skin as rapier grows them, overlap where the bodies are,
+//! each swept ahead only for a body with soft CCD (to where its velocity and forces take it
+//! over the step, at most its soft-CCD distance), as rapier's own broad phase does: its
+//! narrow phase makes contacts at the poses it has, so a pair further ahead would only cost
+//! it, and it gets no pair its own broad phase would not give it. A pair is deleted (`DeletePair`) once those boxes part, so never
 //! while the colliders touch or are within the prediction distance. The lower collider index
 //! comes first; a removed collider's pairs go
 //! without events (the narrow phase drops them itself). Same-body pairs and collision groups
@@ -57,7 +59,7 @@
 //! Where plans do not hold (a pile, a settling rain, a dense gas: re-plans every few steps),
 //! the broad phase *steps* instead: each step it files every collider's box, swept over the
 //! step by its own last moves, into a grid built afresh, and hands rapier the pairs whose
-//! boxes meet within the step; where those pairs are few (debris and bursts flying apart) it
+//! boxes overlap (as above); where those pairs are few (debris and bursts flying apart) it
 //! keeps fat boxes that cover each box's next steps and tests only their candidates. It
 //! prices both ways from its counts (re-plans and events against colliders and fat boxes'
 //! work) and switches back once plans pay again; `structure_name()` says `"stepped"`
