@@ -84,7 +84,8 @@ pub trait Engine {
     /// The default, `d`: the pair is the engine's when the boxes meet at any moment of the
     /// step. An engine that tests its pairs at the poses it has now returns zero (rapier,
     /// whose own broad phase takes the boxes where they are), or the move cut to what it
-    /// predicts (rapier's soft CCD). Asked only for boxes that do not overlap now.
+    /// predicts (rapier's soft CCD). Asked only for moving bodies (in a stepped world, only
+    /// for candidates whose boxes do not overlap now).
     fn ahead(&self, b: Key, d: Vec3) -> Vec3 {
         let _ = b;
         d
