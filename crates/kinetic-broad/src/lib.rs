@@ -4,8 +4,8 @@
 //! structure of `kinetic-flight`, bodies on flight plans fitted to the engine's integrator,
 //! the pairs whose proxies can meet within the coming step held, and of those the engine's
 //! own handed to it: the pairs whose boxes, as the engine grows them ([`Engine::bounds`]),
-//! swept over the step, meet. The
-//! adapters are thin: `kinetic-rapier` (rapier3d 0.27's `BroadPhase`) and `kinetic-avian`
+//! swept as far over the step as its narrow phase looks ahead ([`Engine::ahead`]), meet.
+//! The adapters are thin: `kinetic-rapier` (rapier3d 0.27's `BroadPhase`) and `kinetic-avian`
 //! (a plugin for avian3d 0.8) each implement [`Engine`] over their engine's sets and turn
 //! [`PairEvent`]s into its pair events.
 //!
