@@ -5,7 +5,7 @@
 /// Asks the processor to bring the cache line holding `value` into its caches, without
 /// waiting for it. A hint only: nothing is read into the program, and nothing can fault.
 #[inline(always)]
-pub fn prefetch<T>(value: &T) {
+pub fn prefetch<T: ?Sized>(value: &T) {
     #[cfg(target_arch = "x86_64")]
     // SAFETY: a prefetch never faults and reads nothing into the program; `value` is a live
     // reference, and SSE, which provides the instruction, is part of every x86-64 processor.

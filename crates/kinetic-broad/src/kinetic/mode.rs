@@ -111,8 +111,11 @@ pub(super) struct Stepped {
     /// scratch for it.
     typical: Vec3,
     sample: Vec<Real>,
-    /// The colliders moved in this position update, a bit per index.
+    /// The colliders moved in this position update, a bit per index; and scratch for
+    /// their keys and boxes.
     marked: Vec<u64>,
+    marked_keys: Vec<Key>,
+    marked_boxes: Vec<Option<Aabb>>,
     /// The pairs gone and new in this call.
     gone: Vec<(u32, u32)>,
     new: Vec<(u32, u32)>,
@@ -276,23 +279,39 @@ impl Stepped {
     /// them in its own (rapier: its islands'), and read in order both its colliders and
     /// these tables are walked front to back.
     pub(super) fn track_marked(&mut self, engine: &impl Engine, movers: &[Option<(u32, u32)>]) {
+        let mut keys = std::mem::take(&mut self.marked_keys);
+        keys.clear();
         for word in 0..self.marked.len() {
             let mut bits = std::mem::take(&mut self.marked[word]);
             while bits != 0 {
                 let i = (word * 64) as u32 + bits.trailing_zeros();
                 bits &= bits - 1;
                 if let Some(&Some((generation, _))) = movers.get(i as usize) {
-                    let k = Key {
+                    keys.push(Key {
                         index: i,
                         generation,
-                    };
-                    match engine.enlarged(k) {
-                        Some(b) => self.keep_enlarged(i, b),
-                        None => self.track(i, engine.bounds(k)),
-                    }
+                    });
                 }
             }
         }
+        if self.enlarged.is_some() {
+            for &k in &keys {
+                match engine.enlarged(k) {
+                    Some(b) => self.keep_enlarged(k.index, b),
+                    None => self.track(k.index, engine.bounds(k)),
+                }
+            }
+        } else {
+            // The boxes in one pass, so that the engine may fetch colliders ahead.
+            let mut boxes = std::mem::take(&mut self.marked_boxes);
+            boxes.clear();
+            engine.bounds_of(&keys, &mut boxes);
+            for (k, b) in keys.iter().zip(&boxes) {
+                self.track(k.index, *b);
+            }
+            self.marked_boxes = boxes;
+        }
+        self.marked_keys = keys;
     }
 
     /// Collider `i` moved to box `b` (`None`: the engine gives none): how far it moves over
