@@ -78,12 +78,13 @@ pub trait Engine {
         let _ = c;
         None
     }
-    /// [`Engine::bounds`] of each of `colliders`, in order, pushed onto `out`: all a position
-    /// update reads of the engine's colliders, in one pass. An engine may ask for the
-    /// colliders a few ahead of the one it reads ([`kinetic_core::prefetch`]), so that their
-    /// reads overlap.
-    fn bounds_of(&self, colliders: &[Key], out: &mut Vec<Option<Aabb>>) {
-        out.extend(colliders.iter().map(|&c| self.bounds(c)));
+    /// Asks for what [`Engine::bounds`] of collider `c` reads to be fetched: a position
+    /// update that moved thousands of colliders (more than a core's caches hold) calls it for
+    /// the collider a few ahead of the one whose box it reads, so that their reads overlap
+    /// ([`kinetic_core::prefetch`]). A hint, which changes no result; the default does
+    /// nothing.
+    fn prefetch_collider(&self, c: Key) {
+        let _ = c;
     }
     /// How far ahead the engine's narrow phase looks for body `b`, given `d`, the move the
     /// broad phase expects of it over the coming step: two boxes ([`Engine::bounds`]) that

@@ -136,29 +136,14 @@ impl Engine for Rapier<'_> {
         Some(Aabb::new(just_stored(&aabb.mins), just_stored(&aabb.maxs)).grown(m))
     }
 
-    fn bounds_of(&self, colliders: &[Key], out: &mut Vec<Option<Aabb>>) {
-        // A collider's shape lies in memory of its own, away from rapier's arena: the shape
-        // of the collider `AHEAD` on is asked for, so that it is on its way when read.
-        const AHEAD: usize = 4;
-        for (k, &c) in colliders.iter().enumerate() {
-            if let Some(&next) = colliders.get(k + AHEAD)
-                && let Some(co) = self
-                    .colliders
-                    .get(ColliderHandle::from_raw_parts(next.index, next.generation))
-            {
-                prefetch(co.shape());
-            }
-            // A hull's points lie further on: asked for once its shape has come.
-            if let Some(&soon) = colliders.get(k + AHEAD / 2)
-                && let Some(co) = self
-                    .colliders
-                    .get(ColliderHandle::from_raw_parts(soon.index, soon.generation))
-                && let Some(hull) = co.shape().as_convex_polyhedron()
-                && let Some(first) = hull.points().first()
-            {
-                prefetch(first);
-            }
-            out.push(self.bounds(c));
+    /// A collider's shape lies in memory of its own, away from rapier's arena: asked for
+    /// ahead of its box.
+    fn prefetch_collider(&self, c: Key) {
+        if let Some(co) = self
+            .colliders
+            .get(ColliderHandle::from_raw_parts(c.index, c.generation))
+        {
+            prefetch(co.shape());
         }
     }
 

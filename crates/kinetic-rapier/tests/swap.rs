@@ -587,6 +587,14 @@ fn kinematic_debris_in_fat_boxes_touches_as_with_the_default_broad_phase() {
     );
 }
 
+/// Thousands of kinematic bodies moving at once: the stepped world reads their boxes with
+/// rapier asked for the colliders a few ahead, and touches as with the default.
+#[test]
+fn thousands_of_moving_bodies_read_ahead_touch_as_with_the_default_broad_phase() {
+    let bp = against_default(23, (2600, 0.3, 0.8), 12, kinetic());
+    assert_eq!(bp.structure_name(), "stepped", "{:?}", bp.stats());
+}
+
 #[test]
 fn resting_crates_hand_the_narrow_phase_the_pairs_of_the_default() {
     // 400 unit crates stacked 8 high in columns 0.1 apart, asleep, and two bodies dropped on

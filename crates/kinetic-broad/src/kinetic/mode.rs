@@ -53,6 +53,9 @@ use crate::{Bound, Engine, Key, PairEvent};
 use kinetic_core::{Real, Vec3};
 use kinetic_flight::LOOSE_TRAVEL;
 
+#[path = "tracked.rs"]
+mod tracked;
+
 /// The kinetic cost of a re-plan or an event, in units of one collider filed by the stepped
 /// grid (measured on the rapier bench's pile, rain and gas at 1e3 and 1e4 bodies).
 const OP_COST: Real = 40.0;
@@ -111,11 +114,10 @@ pub(super) struct Stepped {
     /// scratch for it.
     typical: Vec3,
     sample: Vec<Real>,
-    /// The colliders moved in this position update, a bit per index; and scratch for
-    /// their keys and boxes.
+    /// The colliders moved in this position update, a bit per index, and scratch for their
+    /// keys.
     marked: Vec<u64>,
     marked_keys: Vec<Key>,
-    marked_boxes: Vec<Option<Aabb>>,
     /// The pairs gone and new in this call.
     gone: Vec<(u32, u32)>,
     new: Vec<(u32, u32)>,
@@ -263,120 +265,6 @@ impl Stepped {
     /// Whether this position update's re-plans price a kinetic step.
     fn counting(&self) -> bool {
         self.updates % self.price_every() == 2
-    }
-
-    /// Marks collider `i` as moved in this position update: its box is read in
-    /// [`Stepped::track_marked`].
-    pub(super) fn mark(&mut self, i: u32) {
-        let word = i as usize / 64;
-        if self.marked.len() <= word {
-            self.marked.resize(word + 1, 0);
-        }
-        self.marked[word] |= 1 << (i % 64);
-    }
-
-    /// Reads the boxes of the colliders marked as moved, in index order: an engine lists
-    /// them in its own (rapier: its islands'), and read in order both its colliders and
-    /// these tables are walked front to back.
-    pub(super) fn track_marked(&mut self, engine: &impl Engine, movers: &[Option<(u32, u32)>]) {
-        let mut keys = std::mem::take(&mut self.marked_keys);
-        keys.clear();
-        for word in 0..self.marked.len() {
-            let mut bits = std::mem::take(&mut self.marked[word]);
-            while bits != 0 {
-                let i = (word * 64) as u32 + bits.trailing_zeros();
-                bits &= bits - 1;
-                if let Some(&Some((generation, _))) = movers.get(i as usize) {
-                    keys.push(Key {
-                        index: i,
-                        generation,
-                    });
-                }
-            }
-        }
-        if self.enlarged.is_some() {
-            for &k in &keys {
-                match engine.enlarged(k) {
-                    Some(b) => self.keep_enlarged(k.index, b),
-                    None => self.track(k.index, engine.bounds(k)),
-                }
-            }
-        } else {
-            // The boxes in one pass, so that the engine may fetch colliders ahead.
-            let mut boxes = std::mem::take(&mut self.marked_boxes);
-            boxes.clear();
-            engine.bounds_of(&keys, &mut boxes);
-            for (k, b) in keys.iter().zip(&boxes) {
-                self.track(k.index, *b);
-            }
-            self.marked_boxes = boxes;
-        }
-        self.marked_keys = keys;
-    }
-
-    /// Collider `i` moved to box `b` (`None`: the engine gives none): how far it moves over
-    /// the coming step is taken from how far it moved over the last two, as a semi-implicit
-    /// Euler step under a steady acceleration does (`2 d1 - d0`).
-    #[inline(always)]
-    pub(super) fn track(&mut self, i: u32, b: Option<Aabb>) {
-        let i = i as usize;
-        if self.boxes.len() <= i {
-            self.boxes.resize(i + 1, None);
-            self.history.resize(i + 1, None);
-        }
-        self.changed_now(i);
-        let Some(b) = b else {
-            self.boxes[i] = None;
-            self.history[i] = None;
-            self.pending.push(i as u32);
-            return;
-        };
-        let c = b.centre();
-        match self.history[i] {
-            Some((last, d0)) => {
-                let d1 = c - last;
-                let ahead = d0.map_or(d1, |d0| 2.0 * d1 - d0);
-                self.boxes[i] = Some((b, ahead));
-                self.history[i] = Some((c, Some(d1)));
-            }
-            // ColliderStatus for the first time: worked out from its body's velocity.
-            None => {
-                self.boxes[i] = None;
-                self.pending.push(i as u32);
-            }
-        }
-    }
-
-    /// Collider `i`'s enlarged box is `b` ([`Engine::enlarged`]): filed as it is, and
-    /// changed only if the engine moved it.
-    #[inline(always)]
-    fn keep_enlarged(&mut self, i: u32, b: Aabb) {
-        let i = i as usize;
-        if self.boxes.len() <= i {
-            self.boxes.resize(i + 1, None);
-            self.history.resize(i + 1, None);
-        }
-        if self.boxes[i] == Some((b, Vec3::ZERO)) {
-            return;
-        }
-        self.changed_now(i);
-        self.boxes[i] = Some((b, Vec3::ZERO));
-        self.history[i] = Some((b.centre(), None));
-    }
-
-    /// Notes that collider `i`'s box changes in this call.
-    #[inline(always)]
-    fn changed_now(&mut self, i: usize) {
-        if self.changed.len() <= i {
-            self.changed.resize(i + 1, 0);
-        }
-        self.last_change = self.calls + 1;
-        if self.changed[i] != self.calls + 1 {
-            self.changed[i] = self.calls + 1;
-            if self.enlarged.is_some() {
-                self.touched.push(i as u32);
-            }
-        }
     }
 
     /// Forgets collider `i`'s box and (`silent`) its pairs: the engine drops a removed
