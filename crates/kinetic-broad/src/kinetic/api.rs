@@ -123,9 +123,10 @@ impl BroadPhaseCore {
 
     /// Whether the engine has the pair of these two colliders by this broad phase.
     pub fn has_pair(&self, a: Key, b: Key) -> bool {
+        // A stepped world's pairs are the engine's, kept there.
         let has = match &self.stepped {
-            Some(st) if st.on_engine_boxes() => st.holds(a.index, b.index),
-            _ => self.handed.has(a.index, b.index),
+            Some(st) => st.holds(a.index, b.index),
+            None => self.handed.has(a.index, b.index),
         };
         self.knows(a) && self.knows(b) && has
     }
@@ -135,14 +136,17 @@ impl BroadPhaseCore {
     /// own pair list need not keep another beside it.
     pub fn partners(&self, c: Key) -> impl Iterator<Item = Key> + '_ {
         let known = self.knows(c);
-        // On the engine's enlarged boxes, the pairs are kept per box there.
-        let on_boxes = self
-            .stepped
-            .as_ref()
-            .and_then(|st| st.enlarged_partners(c.index));
-        let linked = on_boxes.is_none().then(|| self.handed.partners(c.index));
-        let paired = on_boxes.unwrap_or(&[]).iter();
-        let paired = paired.filter_map(|&j| self.proxies.get(j as usize).copied().flatten());
+        // A stepped world keeps the engine's pairs: per box on the engine's enlarged boxes,
+        // else sorted (its partners then take a pass over them).
+        let st = self.stepped.as_ref();
+        let on_boxes = st.and_then(|st| st.enlarged_partners(c.index));
+        let sorted = st
+            .filter(|_| on_boxes.is_none())
+            .map(|st| st.partners_of(c.index));
+        let linked = st.is_none().then(|| self.handed.partners(c.index));
+        let paired = on_boxes.unwrap_or(&[]).iter().copied();
+        let paired = paired.chain(sorted.into_iter().flatten());
+        let paired = paired.filter_map(|j| self.proxies.get(j as usize).copied().flatten());
         linked
             .into_iter()
             .flatten()
@@ -153,8 +157,8 @@ impl BroadPhaseCore {
     /// How many pairs the engine has by this broad phase.
     pub(super) fn handed_count(&self) -> usize {
         match &self.stepped {
-            Some(st) if st.on_engine_boxes() => st.pair_count(),
-            _ => self.handed.handed(),
+            Some(st) => st.pair_count(),
+            None => self.handed.handed(),
         }
     }
 

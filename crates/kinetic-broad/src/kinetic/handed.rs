@@ -53,6 +53,36 @@ impl Handed {
         self.handed
     }
 
+    /// The engine's pairs as links, handed, where a stepped world that kept them sorted
+    /// (`pairs`) goes kinetic; `key` gives each collider's key.
+    pub(super) fn linked(pairs: &[(u32, u32)], key: impl Fn(u32) -> Option<Key>) -> Handed {
+        let mut h = Handed::default();
+        for &(a, b) in pairs {
+            if let (Some(ka), Some(kb)) = (key(a), key(b)) {
+                h.hold(ka, kb, true);
+            }
+        }
+        h
+    }
+
+    /// The engine's pairs (each `(a, b)` with `a < b`, sorted), where a kinetic world goes
+    /// stepped: from there the stepped world keeps them, and the links go.
+    pub(super) fn into_pairs(self) -> Vec<(u32, u32)> {
+        let mut pairs: Vec<(u32, u32)> = self
+            .links
+            .iter()
+            .enumerate()
+            .flat_map(|(a, list)| {
+                let a = a as u32;
+                list.iter()
+                    .filter(move |l| l.handed && a < l.other)
+                    .map(move |l| (a, l.other))
+            })
+            .collect();
+        pairs.sort_unstable();
+        pairs
+    }
+
     /// Where collider `b` is among `a`'s links.
     fn find(&self, a: u32, b: u32) -> Option<usize> {
         if let Some(Some(places)) = self.places.get(a as usize) {
@@ -206,9 +236,10 @@ impl BroadPhaseCore {
         starts: bool,
         events: &mut Vec<PairEvent>,
     ) {
-        if self.on_engine_boxes() {
-            // The pairs held are those of the engine's enlarged boxes, kept per box there:
-            // each is the engine's, and passes as it is.
+        if self.is_stepped() {
+            // A stepped world's pairs are the engine's (those of the swept boxes, or of the
+            // engine's enlarged ones), kept sorted there: each passes as it is, and the
+            // links below stay empty until the world goes kinetic again.
             for &e in held {
                 self.count_event(matches!(e, PairEvent::Add(..)));
             }
@@ -218,7 +249,6 @@ impl BroadPhaseCore {
         }
         let mut h = std::mem::take(&mut self.handed);
         h.call = h.call.wrapping_add(1).max(1);
-        let stepped = self.is_stepped();
         // Removed colliders, and those the update dropped (disabled): their pairs go as
         // the structure's went, without events.
         let dropped = moved.iter().filter(|&&c| starts && !self.knows(c));
@@ -228,16 +258,8 @@ impl BroadPhaseCore {
         for &e in held {
             match e {
                 PairEvent::Add(a, b) => {
-                    // A stepped world's pairs are already those of the swept boxes.
-                    let had = h.hold(a, b, stepped);
-                    if stepped {
-                        if !had {
-                            self.count_event(true);
-                            events.push(PairEvent::Add(a, b));
-                        }
-                    } else {
-                        self.look_at(&mut h, engine, a, b, had, events);
-                    }
+                    let had = h.hold(a, b, false);
+                    self.look_at(&mut h, engine, a, b, had, events);
                 }
                 PairEvent::Delete(a, b) => {
                     if h.let_go(a.index, b.index) {
@@ -247,13 +269,7 @@ impl BroadPhaseCore {
                 }
             }
         }
-        // The held pairs of each moved collider, each pair once (in a stepped world, those
-        // the engine does not have, if any).
-        if stepped && h.held == h.handed {
-            events.sort_unstable();
-            self.handed = h;
-            return;
-        }
+        // The held pairs of each moved collider, each pair once.
         let call = h.call;
         for &c in moved {
             if (c.index as usize) < h.looked.len() {
@@ -269,11 +285,8 @@ impl BroadPhaseCore {
             while k < h.links[i].len() {
                 let l = h.links[i][k];
                 k += 1;
-                // A pair of two moved colliders is looked at from its lower end; in a stepped
-                // world, only the pairs held from before that the engine does not have.
-                if (h.looked[l.other as usize] == call && l.other < c.index)
-                    || (stepped && l.handed)
-                {
+                // A pair of two moved colliders is looked at from its lower end.
+                if h.looked[l.other as usize] == call && l.other < c.index {
                     continue;
                 }
                 self.look_at(&mut h, engine, c, l.key, l.handed, events);

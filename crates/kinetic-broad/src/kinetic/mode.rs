@@ -205,6 +205,25 @@ impl Stepped {
         self.enlarged.as_ref().map(|e| e.partners(i))
     }
 
+    /// Outside the engine's enlarged boxes, the colliders paired with collider `i`, in the
+    /// order of the sorted pairs: a pass over them all.
+    pub(super) fn partners_of(&self, i: u32) -> impl Iterator<Item = u32> + '_ {
+        let pairs = if self.enlarged.is_some() {
+            &[][..]
+        } else {
+            &self.reported[..]
+        };
+        pairs.iter().filter_map(move |&(a, b)| {
+            if a == i {
+                Some(b)
+            } else if b == i {
+                Some(a)
+            } else {
+                None
+            }
+        })
+    }
+
     /// Whether the engine has the pair of colliders `a` and `b`.
     pub(super) fn holds(&self, a: u32, b: u32) -> bool {
         match &self.enlarged {
@@ -396,10 +415,10 @@ impl BroadPhaseCore {
         }
     }
 
-    /// Drops the kinetic structure; this call's stepped pairs take over from the book's.
+    /// Drops the kinetic structure; this call's stepped pairs take over from the engine's
+    /// (the stepped world keeps them from here, sorted).
     fn go_stepped(&mut self) {
-        let mut had = self.book.reported_pairs();
-        had.sort_unstable();
+        let had = std::mem::take(&mut self.handed).into_pairs();
         self.book = Default::default();
         self.structure = None;
         self.grown.clear();
@@ -428,7 +447,11 @@ impl BroadPhaseCore {
         self.stats.refattened += refattened;
         self.stats.rest_filings += st.rest_filings();
         self.stats.engine_lookups += st.engine_lookups();
-        self.adopting = Some(st.into_pairs());
+        let had = st.into_pairs();
+        let proxies = &self.proxies;
+        let key = |i: u32| proxies.get(i as usize).copied().flatten().map(|p| p.key);
+        self.handed = super::handed::Handed::linked(&had, key);
+        self.adopting = Some(had);
         self.clock.kds = self.clock.pos;
         // Bodies at rest are held by fat boxes again.
         let resting: Vec<_> = self
