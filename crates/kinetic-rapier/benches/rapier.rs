@@ -168,6 +168,9 @@ fn space_draws(from: u64, count: u64, steps: usize, repeat: usize, first: bool, 
                         pairs: med(|r| r.pairs),
                     }
                 };
+                if std::env::var_os("KINETIC_COUNTERS").is_some() {
+                    println!("{:?}", kbp.stats());
+                }
                 let mut row = DrawRow::new(&d, steps, side(&ds), side(&ks), kbp.structure_name());
                 rs.sort_by(f64::total_cmp);
                 row.own_reversed_step_ms = rs.get(rs.len() / 2).copied();

@@ -224,6 +224,12 @@ impl Stepped {
         })
     }
 
+    /// Outside the engine's enlarged boxes, the box collider `i` is kept in, if known.
+    pub(super) fn kept_box(&self, i: u32) -> Option<Aabb> {
+        let kept = self.boxes.get(i as usize).copied().flatten();
+        kept.filter(|_| self.enlarged.is_none()).map(|(b, _)| b)
+    }
+
     /// Whether the engine has the pair of colliders `a` and `b`.
     pub(super) fn holds(&self, a: u32, b: u32) -> bool {
         match &self.enlarged {

@@ -17,6 +17,22 @@ impl BroadPhaseCore {
     ) -> Result<(), String> {
         if let Some(st) = &self.stepped {
             self.check_stepped(engine, &st.pairs())?;
+            // Each moving collider's box, as the engine gives it now, lies inside the one
+            // the stepped world keeps for it (outside the engine's enlarged boxes).
+            for p in self.proxies.iter().flatten() {
+                let Bound::Moving { .. } = p.hold else {
+                    continue;
+                };
+                let (Some(kept), Some(b)) = (st.kept_box(p.key.index), engine.bounds(p.key)) else {
+                    continue;
+                };
+                if !b.inside(&kept) {
+                    return Err(format!(
+                        "collider {:?}: box {b:?} outside the box it is kept in, {kept:?}",
+                        p.key
+                    ));
+                }
+            }
         } else {
             if let Some(s) = &self.structure {
                 s.validate(&self.bodies, self.clock.kds)?;
