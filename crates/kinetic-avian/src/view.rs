@@ -293,23 +293,15 @@ impl Engine for AvianWorld<'_, '_> {
             .then(|| Aabb::new(min, max))
     }
 
-    /// The colliders in avian's collider trees whose boxes overlap collider `c`'s there (its
-    /// enlarged box, rounded to single precision, grown by a little more than that rounding):
-    /// avian keeps the trees up to date for its queries whichever broad phase runs.
-    fn enlarged_near(&self, c: Key, out: &mut Vec<u32>) -> bool {
-        let proxy = entity(c)
-            .and_then(|e| self.boxes.get(e).ok())
-            .and_then(|item| item.1.copied());
-        let Some(proxy) = proxy else {
-            return true;
-        };
-        let tree = self.trees.tree_for_type(proxy.tree_type());
-        let Some(mut q) = tree.get_proxy_aabb(proxy.id()) else {
-            return true;
-        };
-        let pad = q.min.abs().max(q.max.abs()) * 1e-6 + 1e-30;
-        q.min -= pad;
-        q.max += pad;
+    /// The colliders in avian's collider trees whose boxes overlap `b` (collider `c`'s
+    /// enlarged box, rounded to single precision, grown by a little more than that
+    /// rounding): avian keeps the trees up to date for its queries whichever broad phase
+    /// runs.
+    fn enlarged_near(&self, _c: Key, b: &Aabb, out: &mut Vec<u32>) -> bool {
+        let f = |v: Vec3| bevy::math::Vec3A::new(v.x as f32, v.y as f32, v.z as f32);
+        let (min, max) = (f(b.min), f(b.max));
+        let pad = min.abs().max(max.abs()) * 1e-6 + 1e-30;
+        let q = obvhs::aabb::Aabb::new(min - pad, max + pad);
         for tree in self.trees.iter_trees() {
             tree.aabb_traverse(q, |id| {
                 if let Some(p) = tree.get_proxy(id) {

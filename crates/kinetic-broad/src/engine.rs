@@ -112,13 +112,13 @@ pub trait Engine {
     }
 
     /// The indices of the colliders whose enlarged boxes ([`Engine::enlarged`]) may overlap
-    /// collider `c`'s, pushed onto `out` (a superset: each is tested again; `c` itself may
-    /// come), from an index of those boxes that the engine keeps for its own use (avian's
-    /// collider trees). The stepped world then looks up each moved collider there instead
-    /// of filing the boxes again itself. The default, `false`: the engine keeps no such
-    /// index.
-    fn enlarged_near(&self, c: Key, out: &mut Vec<u32>) -> bool {
-        let _ = (c, out);
+    /// `b`, collider `c`'s enlarged box as the broad phase has it, pushed onto `out` (a
+    /// superset: each is tested again; `c` itself may come), from an index of those boxes
+    /// that the engine keeps for its own use (avian's collider trees). The stepped world
+    /// then looks up each moved collider there instead of filing the boxes again itself.
+    /// The default, `false`: the engine keeps no such index.
+    fn enlarged_near(&self, c: Key, b: &Aabb, out: &mut Vec<u32>) -> bool {
+        let _ = (c, b, out);
         false
     }
 }

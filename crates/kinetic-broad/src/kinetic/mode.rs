@@ -561,9 +561,9 @@ impl BroadPhaseCore {
             let boxes = &st.boxes;
             let now = |i: u32| boxes.get(i as usize).copied().flatten().map(|(b, _)| b);
             let proxies = &self.proxies;
-            let near = |i: u32, out: &mut Vec<u32>| {
+            let near = |i: u32, b: &Aabb, out: &mut Vec<u32>| {
                 let key = proxies.get(i as usize).copied().flatten().map(|p| p.key);
-                key.is_some_and(|k| engine.enlarged_near(k, out))
+                key.is_some_and(|k| engine.enlarged_near(k, b, out))
             };
             st.new.clear();
             st.gone.clear();

@@ -265,7 +265,7 @@ impl EnlargedPairs {
         &mut self,
         changed: &[u32],
         boxes_now: &dyn Fn(u32) -> Option<Aabb>,
-        engine_near: &dyn Fn(u32, &mut Vec<u32>) -> bool,
+        engine_near: &dyn Fn(u32, &Aabb, &mut Vec<u32>) -> bool,
         adds: &mut Vec<(u32, u32)>,
         deletes: &mut Vec<(u32, u32)>,
     ) {
@@ -279,9 +279,12 @@ impl EnlargedPairs {
             if self.engine_index.is_none() {
                 // Whether the engine keeps an index, asked once of a box there (the first call
                 // then files every box: a look-up each would cost several times more).
-                if let Some(&i) = changed.iter().find(|&&i| self.boxes[i as usize].is_some()) {
+                let first = changed
+                    .iter()
+                    .find_map(|&i| Some((i, self.boxes[i as usize]?)));
+                if let Some((i, b)) = first {
                     self.found.clear();
-                    self.engine_index = Some(engine_near(i, &mut self.found));
+                    self.engine_index = Some(engine_near(i, &b, &mut self.found));
                 }
             }
             if self.engine_index == Some(true) {
@@ -329,7 +332,7 @@ impl EnlargedPairs {
     fn look_up_in_engine(
         &mut self,
         changed: &[u32],
-        engine_near: &dyn Fn(u32, &mut Vec<u32>) -> bool,
+        engine_near: &dyn Fn(u32, &Aabb, &mut Vec<u32>) -> bool,
         adds: &mut Vec<(u32, u32)>,
         deletes: &mut Vec<(u32, u32)>,
     ) {
@@ -338,7 +341,7 @@ impl EnlargedPairs {
             near.clear();
             if let Some(b) = self.boxes[i as usize] {
                 self.found.clear();
-                engine_near(i, &mut self.found);
+                engine_near(i, &b, &mut self.found);
                 let boxes = &self.boxes;
                 let meets = |&j: &u32| j != i && boxes[j as usize].is_some_and(|c| c.overlaps(&b));
                 let found = self
@@ -588,10 +591,12 @@ mod tests {
             }
             adds.clear();
             deletes.clear();
-            let near = |i: u32, out: &mut Vec<u32>| {
-                let Some(b) = boxes[i as usize] else {
-                    return engine_index;
-                };
+            let near = |i: u32, b: &Aabb, out: &mut Vec<u32>| {
+                assert_eq!(
+                    boxes[i as usize].as_ref(),
+                    Some(b),
+                    "box {i} looked up as it is"
+                );
                 let grown = b.grown(Vec3::splat(1e-6));
                 let near = (0..n as u32).filter(|&j| {
                     j % 10 == 0 || boxes[j as usize].is_some_and(|c| c.overlaps(&grown))
