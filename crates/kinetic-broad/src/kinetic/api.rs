@@ -133,7 +133,9 @@ impl BroadPhaseCore {
 
     /// The colliders with which the engine has a pair with collider `c` by this broad
     /// phase, in the order they are held (the same on every run): an engine that keeps its
-    /// own pair list need not keep another beside it.
+    /// own pair list need not keep another beside it. A world stepped on boxes swept over
+    /// the step keeps its pairs sorted, not per collider: there this takes a pass over
+    /// them all.
     pub fn partners(&self, c: Key) -> impl Iterator<Item = Key> + '_ {
         let known = self.knows(c);
         // A stepped world keeps the engine's pairs: per box on the engine's enlarged boxes,
