@@ -164,15 +164,11 @@ impl BroadPhaseCore {
         // moving hold whose body the engine does not give breaks the contract: the collider
         // waits until it is changed again.
         let plans = !self.engine_boxes;
-        let holds: Vec<(Key, Bound, Option<BodyState>)> = new
-            .iter()
-            .filter_map(|&(h, hold)| match hold {
-                Bound::Moving { body, .. } if plans => {
-                    engine.body(body).map(|s| (h, hold, Some(s)))
-                }
-                _ => Some((h, hold, None)),
-            })
-            .collect();
+        let mut holds: Vec<(Key, Bound, Option<BodyState>)> = Vec::with_capacity(new.len());
+        holds.extend(new.iter().filter_map(|&(h, hold)| match hold {
+            Bound::Moving { body, .. } if plans => engine.body(body).map(|s| (h, hold, Some(s))),
+            _ => Some((h, hold, None)),
+        }));
         if self.loose_grid.is_none() {
             self.loose_grid = Some(plans && loose_grid_fits(&holds));
         }

@@ -80,6 +80,10 @@ impl BroadPhaseCore {
         }
         let mut new = Vec::new();
         let mut moved: Vec<Key> = Vec::new();
+        if self.held == 0 {
+            // The first colliders: every one is new, grown for at once.
+            new.reserve(modified_colliders.len());
+        }
         // A stepped world passes over its bodies only now and then: between, a position
         // update costs one box a moved collider.
         let full = starts_step || self.stepped.as_ref().is_none_or(|st| st.full());
