@@ -162,6 +162,7 @@ impl BroadPhaseCore {
         // engine's memory overlap when nothing else sits between them.
         let mut states = std::mem::take(&mut self.states);
         states.clear();
+        states.reserve(moved.len());
         engine.motions(&moved, &mut states);
         for (k, (&b, &state)) in moved.iter().zip(&states).enumerate() {
             if let Some(&next) = moved.get(k + 4) {
