@@ -138,16 +138,10 @@ impl BroadPhaseCore {
     /// them all.
     pub fn partners(&self, c: Key) -> impl Iterator<Item = Key> + '_ {
         let known = self.knows(c);
-        // A stepped world keeps the engine's pairs: per box on the engine's enlarged boxes,
-        // else sorted (its partners then take a pass over them).
+        // A stepped world keeps the engine's pairs itself; a kinetic one, as links.
         let st = self.stepped.as_ref();
-        let on_boxes = st.and_then(|st| st.enlarged_partners(c.index));
-        let sorted = st
-            .filter(|_| on_boxes.is_none())
-            .map(|st| st.partners_of(c.index));
         let linked = st.is_none().then(|| self.handed.partners(c.index));
-        let paired = on_boxes.unwrap_or(&[]).iter().copied();
-        let paired = paired.chain(sorted.into_iter().flatten());
+        let paired = st.into_iter().flat_map(move |st| st.partners_of(c.index));
         let paired = paired.filter_map(|j| self.proxies.get(j as usize).copied().flatten());
         linked
             .into_iter()

@@ -199,21 +199,14 @@ impl Stepped {
             .map_or(self.reported.len(), |e| e.count())
     }
 
-    /// On the engine's enlarged boxes, the colliders paired with collider `i` (`None`
-    /// otherwise).
-    pub(super) fn enlarged_partners(&self, i: u32) -> Option<&[u32]> {
-        self.enlarged.as_ref().map(|e| e.partners(i))
-    }
-
-    /// Outside the engine's enlarged boxes, the colliders paired with collider `i`, in the
-    /// order of the sorted pairs: a pass over them all.
+    /// The colliders paired with collider `i`: kept per box on the engine's enlarged boxes,
+    /// else read off the sorted pairs (a pass over them all).
     pub(super) fn partners_of(&self, i: u32) -> impl Iterator<Item = u32> + '_ {
-        let pairs = if self.enlarged.is_some() {
-            &[][..]
-        } else {
-            &self.reported[..]
+        let (kept, sorted) = match &self.enlarged {
+            Some(e) => (e.partners(i), &[][..]),
+            None => (&[][..], &self.reported[..]),
         };
-        pairs.iter().filter_map(move |&(a, b)| {
+        let other = move |&(a, b): &(u32, u32)| {
             if a == i {
                 Some(b)
             } else if b == i {
@@ -221,7 +214,8 @@ impl Stepped {
             } else {
                 None
             }
-        })
+        };
+        kept.iter().copied().chain(sorted.iter().filter_map(other))
     }
 
     /// Outside the engine's enlarged boxes, the box collider `i` is kept in, if known.
