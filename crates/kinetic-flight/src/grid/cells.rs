@@ -2,7 +2,7 @@
 //! taken out of it.
 
 use super::FAST_SPAN;
-use super::{CellKey, Grid};
+use super::{CellKey, Grid, Track};
 use kinetic_core::Real;
 use kinetic_core::kds::PairChange;
 
@@ -109,6 +109,7 @@ impl Grid {
             Self::cells_of(&track, None, &mut keys);
             let m = self.members[id as usize].as_mut().expect("a member");
             let at = m.tracks.partition_point(|t| t.level < level);
+            self.own_tracks += track.own();
             m.tracks.insert(at, track);
             for &key in &keys {
                 self.enter(id, key, false, now, changes);
@@ -139,6 +140,7 @@ impl Grid {
                 None => self.footprint(m, l, now),
             };
             Self::cells_of(&track, None, &mut keys);
+            self.own_tracks += track.own();
             self.members[id as usize]
                 .as_mut()
                 .expect("a member")
@@ -158,6 +160,7 @@ impl Grid {
     pub(super) fn unplace(&mut self, id: u32, changes: &mut Vec<PairChange>) {
         let m = self.members[id as usize].as_mut().expect("a member");
         let (level, tracks) = (m.level, std::mem::take(&mut m.tracks));
+        self.own_tracks -= tracks.iter().map(Track::own).sum::<usize>();
         if m.region.take().is_some()
             && let Some(i) = self.fast.iter().position(|&x| x == id)
         {

@@ -105,6 +105,11 @@ struct Track {
 }
 
 impl Track {
+    /// Whether it is an own track, with certificates of its own (1), or derived (0).
+    fn own(&self) -> usize {
+        usize::from(self.shift.is_none())
+    }
+
     /// The track at `level`, whose cells are `own`'s times `2^shift`, derived from `own`.
     fn derived(own: &Track, level: i32, shift: u32) -> Track {
         Track {
@@ -188,6 +193,9 @@ pub struct Grid {
     /// object's region looks for owners within them only.
     owned: Vec<(i32, [[i64; 2]; 3])>,
     fast_anchors: u64,
+    /// The members' own tracks (those that are not derived), kept as tracks come and go:
+    /// the statistics count the certificates after every event.
+    own_tracks: usize,
 }
 
 impl Grid {

@@ -32,6 +32,19 @@ impl Grid {
     pub(super) fn check(&self, bodies: &Bodies, now: Real) -> Result<(), String> {
         self.crossings_queue.validate()?;
         self.pairs_queue.validate()?;
+        let own: usize = self
+            .members
+            .iter()
+            .flatten()
+            .flat_map(|m| &m.tracks)
+            .map(|t| t.own())
+            .sum();
+        if own != self.own_tracks {
+            return Err(format!(
+                "grid: {own} own tracks, counted {} as they came and went",
+                self.own_tracks
+            ));
+        }
         let at = |key: &ScalarKey| key.value_at(now);
         let listed = cell_listings(&self.cells, "grid")?;
         let mut covered = 0usize;
