@@ -508,11 +508,11 @@ fn plane_scenes_run_on_every_plane_structure_and_match_the_brute_force() {
     let (status, err, chosen, stats) = run(&dir, &scene, &[]);
     assert_eq!(status, 0, "{err}");
     let stats: serde_json::Value = serde_json::from_str(&stats.unwrap()).unwrap();
-    // Marbles of radii 1:50 start on the loose grid (and may race on from there).
+    // Marbles of radii 1:50 start on the grid (and may race on from there).
     let first = stats["race"][0]["structure"].as_str();
     assert_eq!(
         first.unwrap_or(stats["structure"].as_str().unwrap()),
-        "loose-grid"
+        "grid"
     );
     let chosen = chosen.unwrap();
     assert!(chosen.lines().count() > 20, "{chosen}");

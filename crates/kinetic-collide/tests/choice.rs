@@ -1,8 +1,10 @@
-//! The default choice on the choice family: it always names a structure that applies to the
-//! scene, every branch of the rule is taken, and it gives the brute force's contacts.
+//! The default choice on the choice family (and a spread of sizes wider than the family's): it
+//! always names a structure that applies to the scene, every branch of the rule is taken, and
+//! it gives the brute force's contacts.
 
 use kinetic_collide::Structure;
 use kinetic_collide::run::run_scene;
+use kinetic_scenes::BallScene;
 use kinetic_scenes::audit::assert_same_contacts;
 use kinetic_scenes::choice::{KINDS, choice_family};
 
@@ -10,11 +12,24 @@ use kinetic_scenes::choice::{KINDS, choice_family};
 fn the_default_applies_takes_every_branch_and_matches_the_brute_force() {
     let cases = choice_family(&[60, 250], 7);
     assert_eq!(cases.len(), 2 * KINDS.len());
+    // Sizes spread wider than the family's (1:10^6), drifting, for the sweep.
+    let wide = BallScene {
+        r_min: 5e-5,
+        r_max: 50.0,
+        side: 12.0 * 250f64.cbrt(),
+        speed: 0.01,
+        horizon: 10.0,
+        ..BallScene::gas(250, 7)
+    }
+    .build();
     let mut picked = std::collections::BTreeSet::new();
-    for case in &cases {
-        let scene = &case.scene;
+    for (kind, scene) in cases
+        .iter()
+        .map(|c| (c.kind, &c.scene))
+        .chain([("sizes-1e6", &wide)])
+    {
         let pick = Structure::for_scene(scene);
-        assert!(pick.applies_to(scene), "{}: {pick:?}", case.kind);
+        assert!(pick.applies_to(scene), "{kind}: {pick:?}");
         picked.insert(pick.name());
         let reference = run_scene(scene, Some(Structure::BruteForce)).unwrap();
         let got = run_scene(scene, None).unwrap();
@@ -24,10 +39,9 @@ fn the_default_applies_takes_every_branch_and_matches_the_brute_force() {
         let first = got.race.first().map_or(got.structure, |leg| leg.structure);
         assert!(
             first == pick || pick == Structure::BruteForce,
-            "{}: started on {first:?}, picked {pick:?}",
-            case.kind
+            "{kind}: started on {first:?}, picked {pick:?}"
         );
-        assert_same_contacts(&reference.events, &got.events, case.kind);
+        assert_same_contacts(&reference.events, &got.events, kind);
     }
     // The family exercises every branch of the rule.
     assert_eq!(

@@ -30,8 +30,6 @@ pub(crate) struct Auto {
     lo: Real,
     hi: Real,
     least_flight: Real,
-    /// Whether its objects roll on a plane (see [`for_flights`]).
-    plane: bool,
     switches: u64,
 }
 
@@ -64,15 +62,8 @@ impl Auto {
             lo: Real::INFINITY,
             hi: 0.0,
             least_flight,
-            plane: false,
             switches: 0,
         }
-    }
-
-    /// The same structure for balls rolling on a plane, for which the rule skips the grid.
-    pub(crate) fn on_plane(mut self, plane: bool) -> Auto {
-        self.plane = plane;
-        self
     }
 
     /// The structure the rule names for the objects held so far: the brute force while they
@@ -81,7 +72,7 @@ impl Auto {
         if self.choice == Structure::BruteForce && self.live <= ELASTIC_BRUTE_MAX {
             Structure::BruteForce
         } else {
-            for_flights(self.spread(), self.live, false, self.plane)
+            for_flights(self.spread(), false)
         }
     }
 

@@ -9,23 +9,19 @@ use kinetic_core::Real;
 use kinetic_flight::Grid;
 
 /// Sizes (outer radii, largest over smallest) spread by at most this factor: the loose grid,
-/// in [`for_flights`], for many objects (measured fastest on balls of sizes 1:250 at 3e3 to
-/// 1e4, 1.3x to 2.2x the grid, and the grid 1.9x to 3.4x faster on sizes 1:1000: the bound
-/// is between the two). Fewer objects take the loose grid only within [`loose_spread`].
-pub(crate) const LOOSE_SPREAD: Real = 500.0;
-/// Below [`LOOSE_SPREAD`], the loose grid's bound for `n` objects in a free world:
-/// `LOOSE_N_SPREAD (n / LOOSE_N)^0.6`, within `LOOSE_N_SPREAD` and [`LOOSE_SPREAD`]. The
-/// loose grid's time over the grid's grows about as `spread^0.56` and shrinks about as
-/// `n^-0.33` (fitted on balls of sizes 1:100, 1:250 and 1:1000 at 300 to 1e4 objects): at
-/// 1:250 the grid is 1.4x faster at 300 objects and 1.2x at 1,000, the loose grid 1.3x
-/// faster at 3,000, and at 1:100 the loose grid is faster from 300 objects on.
-pub(crate) const LOOSE_N_SPREAD: Real = 100.0;
-/// See [`LOOSE_N_SPREAD`].
-pub(crate) const LOOSE_N: Real = 300.0;
-/// Sizes spread by at most this factor (and more than [`LOOSE_SPREAD`]): the hierarchical
-/// grid in a free world; beyond it, the sweep, in [`for_flights`] (the grid fastest on sizes
-/// 1:1000 at 1e3 to 1e4, the sweep on sizes 1:10^4: the bound is between the two).
-pub(crate) const GRID_SPREAD: Real = 3000.0;
+/// in [`for_flights`]; wider, the hierarchical grid. On the choice family
+/// (`cargo bench --bench choice -- --family 300 3000 10000`), the loose grid is up to 1.3x
+/// faster than the grid on equal balls (the gas, bullets, long horizons) and the grid 1.2x to
+/// 10x faster from sizes 1:60 on (asteroids and cuboids 1:60, balls 1:100 and 1:250, balls
+/// 1:1000 rolling on a plane); the bound sits between.
+pub(crate) const LOOSE_SPREAD: Real = 4.0;
+/// Sizes spread by at most this factor: the hierarchical grid, in [`for_flights`]; beyond
+/// it, the sweep. The grid was the fastest on every spread measured: balls of sizes 1:10^4
+/// in the choice family (1.2x to 1.3x the sweep at 300 to 10,000 objects), and the same gas
+/// at sizes 1:3x10^4 and 1:10^5 (1.3x the sweep at 300 objects, 2.5x at 3,000). Wider spreads
+/// were not measured; the sweep's sorted lists do not care about sizes, where the grid's
+/// levels grow with them.
+pub(crate) const GRID_SPREAD: Real = 1e5;
 
 /// The brute force's cost per pair of balls moving linearly (its one certificate), in
 /// microseconds, fitted on the choice family at 10 to 300 objects.
@@ -82,26 +78,19 @@ pub(crate) fn boxes_cost(n: usize, crossings: Real, contacts: Real) -> Real {
 
 /// The structure for an exact event simulation of objects whose outer radii spread by
 /// `spread` (see [`spread`]), measured fastest on the choice family
-/// (`docs/results/choice.md`):
+/// (`docs/results/choice.md`), in a free world or rolling on a plane alike:
 ///
-/// 1. objects that barely move (`resting`, see [`barely_moving`]) within [`GRID_SPREAD`]:
-///    the hierarchical grid, the cheapest to build;
-/// 2. within [`LOOSE_SPREAD`], and in a free world within [`loose_spread`] for `n` objects
-///    (the grid wins at wide spreads until the objects are many): the loose grid, one
-///    certificate per object;
-/// 3. within [`GRID_SPREAD`], in a free world: the hierarchical grid, exact box pairs level
-///    by level;
-/// 4. a wider spread, or a plane world (`plane`: balls rolling on a plane, whose discs the
-///    sweep's lists hold 1.5x to 4x faster than the grid at sizes 1:1000): the sweep, whose
-///    sorted lists do not care about sizes.
+/// 1. objects of alike sizes (within [`LOOSE_SPREAD`]) that move (not `resting`, see
+///    [`barely_moving`]): the loose grid, one certificate per object;
+/// 2. within [`GRID_SPREAD`]: the hierarchical grid, exact box pairs level by level (for
+///    objects that barely move, the cheapest to build);
+/// 3. a wider spread: the sweep, whose sorted lists do not care about sizes.
 ///
 /// The guards are never picked: on every scene measured, one of the three is faster.
-pub(crate) fn for_flights(spread: Real, n: usize, resting: bool, plane: bool) -> Structure {
-    if resting && spread <= GRID_SPREAD {
-        Structure::Grid
-    } else if spread <= LOOSE_SPREAD && (plane || spread <= loose_spread(n)) {
+pub(crate) fn for_flights(spread: Real, resting: bool) -> Structure {
+    if spread <= LOOSE_SPREAD && !resting {
         Structure::LooseGrid
-    } else if spread <= GRID_SPREAD && !plane {
+    } else if spread <= GRID_SPREAD {
         Structure::Grid
     } else {
         Structure::Sweep
@@ -133,12 +122,6 @@ pub(crate) fn sweep_crossings(passes: Real) -> Real {
     passes * SWEEP_PASS_COST / CROSSING_COST
 }
 
-/// The widest spread of sizes for which `n` objects in a free world get the loose grid (see
-/// [`LOOSE_N_SPREAD`]).
-pub(crate) fn loose_spread(n: usize) -> Real {
-    (LOOSE_N_SPREAD * (n as Real / LOOSE_N).powf(0.6)).clamp(LOOSE_N_SPREAD, LOOSE_SPREAD)
-}
-
 /// Objects that cross their own size fewer than this many times each, on average over the
 /// run, barely move: all a structure costs them is its build.
 pub(crate) const RESTING_CROSSINGS: Real = 0.1;
@@ -158,39 +141,14 @@ mod tests {
 
     #[test]
     fn flights_by_spread() {
-        let many = 100_000;
-        assert_eq!(for_flights(1.0, many, false, false), Structure::LooseGrid);
-        assert_eq!(
-            for_flights(LOOSE_SPREAD, many, false, false),
-            Structure::LooseGrid
-        );
-        assert_eq!(
-            for_flights(LOOSE_SPREAD * 1.01, many, false, false),
-            Structure::Grid
-        );
-        assert_eq!(
-            for_flights(LOOSE_SPREAD * 1.01, many, false, true),
-            Structure::Sweep
-        );
-        assert_eq!(
-            for_flights(GRID_SPREAD * 1.01, many, false, false),
-            Structure::Sweep
-        );
-        assert_eq!(for_flights(1.0, many, true, false), Structure::Grid);
-        assert_eq!(for_flights(1.0, many, true, true), Structure::Grid);
-        assert_eq!(
-            for_flights(GRID_SPREAD * 1.01, many, true, false),
-            Structure::Sweep
-        );
-        // Sizes 1:250: the grid for a few hundred objects, the loose grid for thousands; on
-        // a plane the loose grid either way. Sizes 1:100: the loose grid for any number.
-        assert_eq!(for_flights(250.0, 300, false, false), Structure::Grid);
-        assert_eq!(for_flights(250.0, 1000, false, false), Structure::Grid);
-        assert_eq!(for_flights(250.0, 3000, false, false), Structure::LooseGrid);
-        assert_eq!(for_flights(250.0, 300, false, true), Structure::LooseGrid);
-        assert_eq!(for_flights(100.0, 10, false, false), Structure::LooseGrid);
-        assert_eq!(loose_spread(10), LOOSE_N_SPREAD);
-        assert_eq!(loose_spread(many), LOOSE_SPREAD);
+        assert_eq!(for_flights(1.0, false), Structure::LooseGrid);
+        assert_eq!(for_flights(LOOSE_SPREAD, false), Structure::LooseGrid);
+        assert_eq!(for_flights(LOOSE_SPREAD * 1.01, false), Structure::Grid);
+        assert_eq!(for_flights(GRID_SPREAD, false), Structure::Grid);
+        assert_eq!(for_flights(GRID_SPREAD * 1.01, false), Structure::Sweep);
+        // Objects that barely move: the grid, the cheapest to build, within its spread.
+        assert_eq!(for_flights(1.0, true), Structure::Grid);
+        assert_eq!(for_flights(GRID_SPREAD * 1.01, true), Structure::Sweep);
         assert!(barely_moving(1000, 50.0));
         assert!(!barely_moving(1000, 500.0));
         assert!(!barely_moving(1_000_000, 0.0));

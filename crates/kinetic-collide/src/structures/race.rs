@@ -407,7 +407,14 @@ impl Race {
             }
             Phase::Settled => {
                 // A check: the leader's pace since the last one, then a trial of the
-                // runner-up if the budget allows.
+                // runner-up if the budget allows. Timed over LEAST_WALL at least: a check
+                // that falls just after a trial ended (a slice a rounding long, its wall
+                // the timer's own cost) would otherwise take a pace millions of times the
+                // leader's, and any structure would beat it.
+                if self.measured_wall < LEAST_WALL {
+                    self.next_check = (to + self.slice).min(self.horizon);
+                    return None;
+                }
                 self.pace = self.measured_wall / span;
                 self.next_check =
                     (to + 3.0 * (to - self.measured_from).max(self.slice)).min(self.horizon);
@@ -475,7 +482,8 @@ impl Race {
         }
         self.to_try.clear();
         self.phase = Phase::Settled;
-        if !self.next_check.is_finite() || self.next_check <= now {
+        // (A check due within a slice's millionth is due now.)
+        if !self.next_check.is_finite() || self.next_check <= now + 1e-6 * self.slice {
             self.next_check = (now + 3.0 * now.max(self.slice)).min(self.horizon);
         }
         None

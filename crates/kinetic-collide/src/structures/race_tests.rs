@@ -273,3 +273,30 @@ fn a_runner_up_faster_than_the_leader_has_become_is_tried_outside_the_budget() {
     assert!(on_grid > 50.0, "{slices:?}");
     assert_eq!(slices.last().unwrap().structure, Structure::Grid);
 }
+
+/// A check that falls a rounding after a trial ended times a sliver of simulated time, whose
+/// wall time is the timer's own cost: no pace is taken from it (it would be millions of
+/// times the leader's, and any structure would then beat the leader), and the check waits
+/// for a slice long enough to time.
+#[test]
+fn a_check_on_a_sliver_of_time_keeps_the_leaders_pace() {
+    let mut race = Race::new(&scene(2000), Structure::Grid, 0.001);
+    race.phase = Phase::Settled;
+    race.pace = 0.01;
+    race.slice = 1.0;
+    race.measured_from = 10.0;
+    race.measured_wall = 0.0;
+    race.paces = vec![(Structure::Sweep, 0.05)];
+    let sliver = 10.0 + 2.0 * f64::EPSILON * 10.0;
+    race.next_check = sliver;
+    let mut build = |_| 0.001;
+    assert_eq!(race.slice_done(10.0, sliver, 1e-6, &mut build), None);
+    assert_eq!(race.pace, 0.01);
+    assert_eq!(race.current(), Structure::Grid);
+    let next = race.slice_end(sliver);
+    assert!(next >= sliver + race.slice, "{next}");
+    // The check then times the leader over the longer slice.
+    assert_eq!(race.slice_done(sliver, next, 0.012, &mut build), None);
+    let want = (1e-6 + 0.012) / (next - 10.0);
+    assert!((race.pace - want).abs() < 1e-12, "{} {want}", race.pace);
+}

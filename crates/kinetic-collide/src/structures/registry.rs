@@ -174,8 +174,7 @@ impl Structure {
     pub(crate) fn boxes_for(scene: &Scene) -> Structure {
         let n = scene.objects.len();
         let resting = cost::barely_moving(n, scene_measures::crossings(scene));
-        let plane = scene.world == WorldKind::Plane;
-        cost::for_flights(scene.size_ratio(), n, resting, plane)
+        cost::for_flights(scene.size_ratio(), resting)
     }
 
     /// A fresh, empty candidate structure of this kind for a world of `kind` whose objects

@@ -44,10 +44,9 @@ impl World {
         response: Response,
         walls: Option<Walls>,
     ) -> Result<World, WorldError> {
-        let plane = kind == WorldKind::Plane;
-        let auto = Auto::new().on_plane(plane);
+        let auto = Auto::new();
         let mut world = World::with_candidates(kind, response, walls, Box::new(auto))?;
-        world.racing = Some(Racing::new(plane));
+        world.racing = Some(Racing::new());
         Ok(world)
     }
 

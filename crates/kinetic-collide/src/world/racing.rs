@@ -24,8 +24,6 @@ pub(super) struct Racing {
     /// What the adaptive structure held when the race began: a switch to it builds the
     /// adaptive structure again.
     pick: Structure,
-    /// Whether the objects roll on a plane (the adaptive structure's rule differs).
-    plane: bool,
     /// The slice in progress: where it began, and the wall seconds run on it so far.
     from: Real,
     wall: f64,
@@ -33,11 +31,10 @@ pub(super) struct Racing {
 
 impl Racing {
     /// A race not yet begun, for a world on the adaptive structure.
-    pub(super) fn new(plane: bool) -> Racing {
+    pub(super) fn new() -> Racing {
         Racing {
             race: None,
             pick: Structure::BruteForce,
-            plane,
             from: 0.0,
             wall: 0.0,
         }
@@ -130,7 +127,7 @@ impl World {
             if let Some(next) = next {
                 let build = Instant::now();
                 if next == racing.pick {
-                    let auto = Auto::new().on_plane(racing.plane);
+                    let auto = Auto::new();
                     self.inner.replace_structure(Box::new(auto));
                 } else {
                     self.hand_to(next, 0.0)?;
