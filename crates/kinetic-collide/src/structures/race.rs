@@ -391,6 +391,12 @@ impl Race {
                 self.paces.push((self.current, pace));
                 let trial = self.current;
                 if pace < self.pace * (1.0 - MARGIN) {
+                    // The leader it beat stays a runner-up, at the pace it last ran: a trial
+                    // measured on a later slice than the leader may have met lighter work,
+                    // and the checks try the runner-up again.
+                    let beaten = (self.leader, self.pace);
+                    self.paces.retain(|&(s, _)| s != beaten.0);
+                    self.paces.push(beaten);
                     self.leader = trial;
                     self.pace = pace;
                     self.next_trial(build_cost)

@@ -300,3 +300,30 @@ fn a_check_on_a_sliver_of_time_keeps_the_leaders_pace() {
     let want = (1e-6 + 0.012) / (next - 10.0);
     assert!((race.pace - want).abs() < 1e-12, "{} {want}", race.pace);
 }
+
+/// A trial that beat the leader on a slice of lighter work for the leader's structure too
+/// (the leader ran its first slices where the work was heaviest) leaves the leader a
+/// runner-up: a later check tries it again, and the run ends on it.
+#[test]
+fn a_leader_beaten_on_a_lighter_slice_is_tried_again() {
+    let mut race = Race::new(&scene(2000), Structure::Grid, 0.001);
+    // The grid at 0.03 a unit over the first 5 units and 0.01 after; the loose grid at 0.02
+    // throughout; the sweep and the brute force far slower.
+    let wall = |s: Structure, from: f64, to: f64, _: f64| match s {
+        Structure::Grid => {
+            0.03 * (to.min(5.0) - from.min(5.0)) + 0.01 * (to.max(5.0) - from.max(5.0))
+        }
+        Structure::LooseGrid => 0.02 * (to - from),
+        _ => 1.0 * (to - from),
+    };
+    let slices = run_with(&mut race, wall, 0.001);
+    assert!(
+        slices.iter().any(|s| s.structure == Structure::LooseGrid),
+        "the loose grid's trial: {slices:?}"
+    );
+    assert_eq!(
+        slices.last().unwrap().structure,
+        Structure::Grid,
+        "{slices:?}"
+    );
+}
