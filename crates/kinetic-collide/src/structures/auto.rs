@@ -72,7 +72,7 @@ impl Auto {
         if self.choice == Structure::BruteForce && self.live <= ELASTIC_BRUTE_MAX {
             Structure::BruteForce
         } else {
-            for_flights(self.spread(), false)
+            for_flights(self.spread(), self.live, false)
         }
     }
 

@@ -174,7 +174,7 @@ impl Structure {
     pub(crate) fn boxes_for(scene: &Scene) -> Structure {
         let n = scene.objects.len();
         let resting = cost::barely_moving(n, scene_measures::crossings(scene));
-        cost::for_flights(scene.size_ratio(), resting)
+        cost::for_flights(scene.size_ratio(), n, resting)
     }
 
     /// A fresh, empty candidate structure of this kind for a world of `kind` whose objects
