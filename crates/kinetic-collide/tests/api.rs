@@ -51,9 +51,9 @@ fn the_default_world_picks_its_structure_by_the_objects_it_holds() {
         "{} certificates",
         world.certificates()
     );
-    // A boulder 1000 times larger: the grid.
+    // A boulder 100 times larger: the grid.
     world
-        .add_ball(1000.0, FlightPlan::at_rest(Vec3::new(0.0, 5000.0, 0.0)))
+        .add_ball(100.0, FlightPlan::at_rest(Vec3::new(0.0, 5000.0, 0.0)))
         .unwrap();
     assert_eq!(world.structure_name(), "grid");
     world.advance_to(world.now() + 1.0).unwrap();

@@ -54,11 +54,11 @@ fn scenario(seed: u64, kind: WorldKind, name: &str) {
     let mut auto = world_with(name, kind);
     let mut brute = world_with("brute-force", kind);
     let mut ids: Vec<ObjectId> = Vec::new();
-    // Radii of each batch: alike, then a spread of 600x to 1000x (grid), then over 10^5x
+    // Radii of each batch: alike, then a spread of 80x to 120x (grid), then over 10^5x
     // (sweep).
     let batches: [(usize, f64, f64, Structure); 3] = [
         (40, 0.2, 0.25, Structure::LooseGrid),
-        (3, 150.0, 200.0, Structure::Grid),
+        (3, 20.0, 24.0, Structure::Grid),
         (2, 25_000.0, 27_500.0, Structure::Sweep),
     ];
     let mut t = 0.0;

@@ -6,7 +6,7 @@ use crate::scene::{Scene, ShapeSpec};
 mod spheres;
 
 pub use crate::structures::Slice;
-use crate::structures::{BRUTE_FORCE_START_MAX, FLIGHT_PARTS, PROBE_OBJECTS, Race, build_cost};
+use crate::structures::{FLIGHT_PARTS, Race, build_cost};
 use crate::{Structure, World};
 use kinetic_core::{ContactEvent, ContactKind, Shape, Stats, WorldError};
 use kinetic_flight::ConvexShape;
@@ -246,59 +246,12 @@ fn drive_within(
     })
 }
 
-/// The world a raced run starts on, its structure and its build's wall seconds: the model's
-/// pick, unless that is the brute force and its build proves dearer than the box structure
-/// the model would pick ([`Structure::boxes_for`]), or it has more than
-/// [`BRUTE_FORCE_START_MAX`] objects; then that box structure, and the race weighs the brute
-/// force later.
-///
-/// The brute force is built in three batches, so that what it costs is measured as it is
-/// paid: a quarter of [`PROBE_OBJECTS`] objects (which also pays the world's first
-/// allocations), as many again, and the rest. After the second the rest of its build is
-/// projected at that batch's cost per pair, and where that passes the model's cost of the
-/// cheapest box structure, build and run ([`Structure::boxes_cost_seconds`]), the spread
-/// rule's box structure is built instead (the race then finds the fastest). A brute force
-/// that pays is thus built at no extra cost, and one that does not costs the pairs of half
-/// of [`PROBE_OBJECTS`] objects. The decision is taken once: a
-/// projection that shrinks as the build goes on would otherwise be followed until it is
-/// dearest to leave.
+/// The world a raced run starts on (the model's pick), its structure and its build's wall
+/// seconds.
 fn raced_start(scene: &Scene, chosen: Structure) -> Result<(World, Structure, f64), RunError> {
-    let n = scene.objects.len();
     let built = Instant::now();
-    let brute = chosen == Structure::BruteForce;
-    if !brute || n <= PROBE_OBJECTS || n > BRUTE_FORCE_START_MAX {
-        let name = if brute && n > BRUTE_FORCE_START_MAX {
-            Structure::boxes_for(scene)
-        } else {
-            chosen
-        };
-        let (world, name) = build_world(scene, Some(name))?;
-        return Ok((world, name, built.elapsed().as_secs_f64()));
-    }
-    let shapes = shapes_of(scene)?;
-    let boxes_cost = Structure::boxes_cost_seconds(scene);
-    let mut world = empty_world(scene, chosen, &shapes)?;
-    let pairs = |k: usize| (k * k.saturating_sub(1) / 2) as f64;
-    let mut added = 0;
-    for to in [PROBE_OBJECTS / 4, PROBE_OBJECTS / 2, n] {
-        let plans = scene.objects[added..to].iter().map(|o| o.plan());
-        let batch = Instant::now();
-        world
-            .add_objects(shapes[added..to].iter().cloned().zip(plans))
-            .map_err(|e| RunError::Input(format!("objects: {e}")))?;
-        // The second batch decides, at its cost per pair (the first also pays the world's
-        // first allocations).
-        let per_pair = batch.elapsed().as_secs_f64() / (pairs(to) - pairs(added));
-        let decides = added > 0 && to < n;
-        added = to;
-        if decides && per_pair * (pairs(n) - pairs(added)) > boxes_cost {
-            drop(world);
-            let start = Instant::now();
-            let (world, name) = build_world(scene, Some(Structure::boxes_for(scene)))?;
-            return Ok((world, name, start.elapsed().as_secs_f64()));
-        }
-    }
-    Ok((world, chosen, built.elapsed().as_secs_f64()))
+    let (world, name) = build_world(scene, Some(chosen))?;
+    Ok((world, name, built.elapsed().as_secs_f64()))
 }
 
 /// [`drive`] in the race's slices: each slice timed, and the world handed to the structure
@@ -331,7 +284,9 @@ fn drive_racing(
         let pairs = stats.events_by_kind.get("collision").copied().unwrap_or(0);
         race.contact_share(pairs as f64 / stats.events_total().max(1) as f64);
         let least_flight = horizon / FLIGHT_PARTS;
-        let next = race.slice_done(from, to, wall, &mut |s| build_cost(world, s, least_flight));
+        let next = race.slice_done(from, to, wall, &mut |s, worth| {
+            build_cost(world, s, least_flight, worth)
+        });
         if let Some(next) = next {
             let build = Instant::now();
             world.switch_structure(next, least_flight)?;

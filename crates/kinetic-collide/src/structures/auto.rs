@@ -72,7 +72,8 @@ impl Auto {
         if self.choice == Structure::BruteForce && self.live <= ELASTIC_BRUTE_MAX {
             Structure::BruteForce
         } else {
-            for_flights(self.spread(), self.live, false)
+            // What the objects will do is not known: the sweep for its spread alone.
+            for_flights(self.spread(), self.live, false, Real::INFINITY)
         }
     }
 

@@ -23,13 +23,23 @@ pub(crate) const LOOSE_SPREAD: Real = 4.0;
 /// levels grow with them.
 pub(crate) const GRID_SPREAD: Real = 1e5;
 /// Fewer objects than this whose sizes spread by more than [`FEW_SPREAD`]: the sweep, in
-/// [`for_flights`]. On the choice family at 100 objects the sweep is 1.2x faster than the grid
-/// on balls of sizes 1:10^4 and 1.6x on balls of sizes 1:1000 rolling on a plane (the grid
-/// 1.8x faster at 1:1000 in free flight); at 200 objects the grid is faster at every spread.
+/// [`for_flights`]. On 160 scenes drawn from the choice space at 10 to 1,500 objects
+/// (`cargo bench --bench choice -- --draws 80 --max-objects 1500`, seeds 1 and 1001), the
+/// sweep was as fast as the grid or faster (up to 100x) on every such scene but one of 30
+/// objects (sizes 1:56,000: the sweep 0.6 ms, the grid 0.4 ms).
 pub(crate) const FEW_OBJECTS: usize = 150;
-/// See [`FEW_OBJECTS`]: the bound sits between 1:1000, where the grid held its own at 100
-/// objects in free flight, and 1:10^4, where the sweep won.
-pub(crate) const FEW_SPREAD: Real = 3000.0;
+/// See [`FEW_OBJECTS`]: the bound sits between sizes 1:100 (the grid 1.2x to 4x faster at
+/// 119 and 133 objects) and 1:300 to 1:500 (the sweep 1.2x to 4x faster at 17 to 102
+/// objects).
+pub(crate) const FEW_SPREAD: Real = 500.0;
+/// Where the sweep's estimated work is under this share of the grid's, the sweep, in
+/// [`for_flights`]: the box ends the objects pass ([`sweep_crossings`]) against the cells
+/// the grid's objects cross (crossings times [`grid_crossing_share`]). The grid's estimate
+/// counts every cell an object crosses, where a fast small object flies in a region and
+/// crosses far fewer, so it runs up to ten times its crossing events; on the 160 draws of
+/// [`FEW_OBJECTS`], the sweep was faster or within 1.07x wherever its estimate was under a
+/// third of the grid's, save one run of 0.4 ms, and the grid was faster on most above.
+pub(crate) const SWEEP_SHARE: Real = 1.0 / 3.0;
 
 /// The brute force's cost per pair of balls moving linearly (its one certificate), in
 /// microseconds, fitted on the choice family at 10 to 300 objects.
@@ -47,6 +57,14 @@ pub(crate) const CROSSING_COST: Real = 0.71;
 /// microseconds, fitted on the gas and the dense gas at 100 and 300 objects (2% and 15% of
 /// space filled).
 pub(crate) const CONTACT_COST: Real = 1.2;
+/// Above this many objects the model never names the brute force: the run starts on a box
+/// structure, and the race brings the brute force in where the paces it measures say its
+/// build is paid back (see [`super::Race`]). On 280 scenes drawn from the choice space
+/// (`cargo bench --bench choice -- --draws 80 --max-objects 1500`, seeds 1, 1001 and 2001,
+/// and `--draws 40`), the brute force was the fastest for 66 to 90 balls flying far (0.8 ms
+/// to 1.8 ms, against 1.4 ms to 3.4 ms for the next), and where the model named it for 99 to
+/// 559 objects the grid or the sweep ran 1.3x to 3.7x faster.
+pub(crate) const BRUTE_FORCE_MODEL_MAX: usize = 96;
 /// Elastic scenes above this many objects never get the brute force: each bounce re-plans two
 /// objects, which costs it two certificates per object. Up to this many, the brute force
 /// costs least whatever the objects do: [`super::Auto`] holds it while it holds no more.
@@ -56,9 +74,9 @@ pub(crate) const ELASTIC_BRUTE_MAX: usize = 32;
 /// `crossings` times in all over the run (see [`super::scene_measures::crossings`]) and
 /// make about `contacts` contacts ([`super::scene_measures::contacts`]: more where they
 /// crowd): its `n (n - 1) / 2` pair certificates against a box structure's cost per object,
-/// per crossing and per contact. It is, for a few dozen objects, for a hundred that crowd,
-/// and for a few hundred that travel far on a long horizon without bouncing. `shapes`: some
-/// objects are cuboids or hulls; `elastic`: balls bounce.
+/// per crossing and per contact, up to [`BRUTE_FORCE_MODEL_MAX`] objects. It is, for a few
+/// dozen objects, and for a few more that crowd or travel far on a long horizon without
+/// bouncing. `shapes`: some objects are cuboids or hulls; `elastic`: balls bounce.
 pub(crate) fn brute_force_pays(
     n: usize,
     crossings: Real,
@@ -66,7 +84,7 @@ pub(crate) fn brute_force_pays(
     shapes: bool,
     elastic: bool,
 ) -> bool {
-    if elastic && n > ELASTIC_BRUTE_MAX {
+    if n > BRUTE_FORCE_MODEL_MAX || (elastic && n > ELASTIC_BRUTE_MAX) {
         return false;
     }
     let pair = if shapes {
@@ -84,22 +102,24 @@ pub(crate) fn boxes_cost(n: usize, crossings: Real, contacts: Real) -> Real {
     OBJECT_COST * n as Real + CROSSING_COST * crossings + CONTACT_COST * contacts.max(0.0)
 }
 
-/// The structure for an exact event simulation of objects whose outer radii spread by
+/// The structure for an exact event simulation of `n` objects whose outer radii spread by
 /// `spread` (see [`spread`]), measured fastest on the choice family
 /// (`docs/results/choice.md`), in a free world or rolling on a plane alike:
 ///
 /// 1. objects of alike sizes (within [`LOOSE_SPREAD`]) that move (not `resting`, see
 ///    [`barely_moving`]): the loose grid, one certificate per object;
-/// 2. within [`GRID_SPREAD`], unless fewer than [`FEW_OBJECTS`] of `n` spread past
-///    [`FEW_SPREAD`]: the hierarchical grid, exact box pairs level by level (for objects
-///    that barely move, the cheapest to build);
-/// 3. a wider spread: the sweep, whose sorted lists do not care about sizes.
+/// 2. within [`GRID_SPREAD`]: the hierarchical grid, exact box pairs level by level (for
+///    objects that barely move, the cheapest to build), unless fewer than [`FEW_OBJECTS`]
+///    spread past [`FEW_SPREAD`], or the sweep's estimated work is under [`SWEEP_SHARE`] of
+///    the grid's (`sweep_share`: the sweep's over the grid's, infinite where unknown);
+/// 3. otherwise the sweep, whose sorted lists do not care about sizes.
 ///
 /// The guards are never picked: on every scene measured, one of the three is faster.
-pub(crate) fn for_flights(spread: Real, n: usize, resting: bool) -> Structure {
+pub(crate) fn for_flights(spread: Real, n: usize, resting: bool, sweep_share: Real) -> Structure {
+    let few = n < FEW_OBJECTS && spread > FEW_SPREAD;
     if spread <= LOOSE_SPREAD && !resting {
         Structure::LooseGrid
-    } else if spread <= GRID_SPREAD && (n >= FEW_OBJECTS || spread <= FEW_SPREAD) {
+    } else if spread <= GRID_SPREAD && !few && sweep_share >= SWEEP_SHARE {
         Structure::Grid
     } else {
         Structure::Sweep
@@ -148,34 +168,31 @@ pub(crate) fn barely_moving(n: usize, crossings: Real) -> bool {
 mod tests {
     use super::*;
 
+    /// The rule where the sweep's work is not known.
+    fn ff(spread: Real, n: usize, resting: bool) -> Structure {
+        for_flights(spread, n, resting, Real::INFINITY)
+    }
+
     #[test]
     fn flights_by_spread() {
         let many = 1000;
-        assert_eq!(for_flights(1.0, many, false), Structure::LooseGrid);
-        assert_eq!(for_flights(LOOSE_SPREAD, many, false), Structure::LooseGrid);
-        assert_eq!(
-            for_flights(LOOSE_SPREAD * 1.01, many, false),
-            Structure::Grid
-        );
-        assert_eq!(for_flights(GRID_SPREAD, many, false), Structure::Grid);
-        assert_eq!(
-            for_flights(GRID_SPREAD * 1.01, many, false),
-            Structure::Sweep
-        );
+        assert_eq!(ff(1.0, many, false), Structure::LooseGrid);
+        assert_eq!(ff(LOOSE_SPREAD, many, false), Structure::LooseGrid);
+        assert_eq!(ff(LOOSE_SPREAD * 1.01, many, false), Structure::Grid);
+        assert_eq!(ff(GRID_SPREAD, many, false), Structure::Grid);
+        assert_eq!(ff(GRID_SPREAD * 1.01, many, false), Structure::Sweep);
         // Objects that barely move: the grid, the cheapest to build, within its spread.
-        assert_eq!(for_flights(1.0, many, true), Structure::Grid);
-        assert_eq!(
-            for_flights(GRID_SPREAD * 1.01, many, true),
-            Structure::Sweep
-        );
+        assert_eq!(ff(1.0, many, true), Structure::Grid);
+        assert_eq!(ff(GRID_SPREAD * 1.01, many, true), Structure::Sweep);
         // A few objects of widely spread sizes: the sweep.
         let few = FEW_OBJECTS - 1;
-        assert_eq!(for_flights(FEW_SPREAD, few, false), Structure::Grid);
-        assert_eq!(for_flights(FEW_SPREAD * 1.01, few, false), Structure::Sweep);
-        assert_eq!(
-            for_flights(FEW_SPREAD * 1.01, FEW_OBJECTS, false),
-            Structure::Grid
-        );
+        assert_eq!(ff(FEW_SPREAD, few, false), Structure::Grid);
+        assert_eq!(ff(FEW_SPREAD * 1.01, few, false), Structure::Sweep);
+        assert_eq!(ff(FEW_SPREAD * 1.01, FEW_OBJECTS, false), Structure::Grid);
+        // The sweep where its estimated work is under a third of the grid's.
+        assert_eq!(for_flights(100.0, many, false, 0.5), Structure::Grid);
+        assert_eq!(for_flights(100.0, many, false, 0.2), Structure::Sweep);
+        assert_eq!(for_flights(2.0, many, false, 0.2), Structure::LooseGrid);
         assert!(barely_moving(1000, 50.0));
         assert!(!barely_moving(1000, 500.0));
         assert!(!barely_moving(1_000_000, 0.0));
@@ -184,17 +201,20 @@ mod tests {
     #[test]
     fn the_brute_force_for_few_objects_crowds_or_long_flights() {
         assert!(brute_force_pays(10, 0.0, 0.0, false, false));
-        assert!(!brute_force_pays(100, 0.0, 0.0, false, false));
-        // 100 balls each crossing its size 60 times over the run.
-        assert!(brute_force_pays(100, 6000.0, 0.0, false, false));
-        assert!(!brute_force_pays(100, 2000.0, 0.0, true, false));
-        assert!(!brute_force_pays(100, 6000.0, 0.0, false, true));
-        assert!(!brute_force_pays(1000, 1e5, 0.0, false, false));
+        assert!(!brute_force_pays(60, 0.0, 0.0, false, false));
+        // 60 balls each crossing its size 30 times over the run.
+        assert!(brute_force_pays(60, 1800.0, 0.0, false, false));
+        assert!(!brute_force_pays(60, 600.0, 0.0, true, false));
+        assert!(!brute_force_pays(60, 1800.0, 0.0, false, true));
         assert!(!brute_force_pays(30, 0.0, 0.0, true, false));
-        // 100 balls crossing their size 10 times each: in a sparse gas (2% of space filled,
+        // 60 balls crossing their size 5 times each: in a sparse gas (2% of space filled,
         // 0.12 contacts per crossing) a box structure; in a crowd (15%, 0.9) the brute force.
-        assert!(!brute_force_pays(100, 1000.0, 120.0, false, false));
-        assert!(brute_force_pays(100, 1000.0, 900.0, false, false));
+        assert!(!brute_force_pays(60, 300.0, 36.0, false, false));
+        assert!(brute_force_pays(60, 300.0, 270.0, false, false));
+        // Above 96 objects, never: the race measures whether it pays back.
+        assert!(brute_force_pays(90, 5400.0, 0.0, false, false));
+        assert!(!brute_force_pays(100, 6000.0, 0.0, false, false));
+        assert!(!brute_force_pays(100, 1000.0, 900.0, false, false));
     }
 
     #[test]

@@ -14,9 +14,7 @@ mod scene_world;
 
 pub(crate) use auto::Auto;
 pub use race::Slice;
-pub(crate) use race::{
-    BRUTE_FORCE_START_MAX, BRUTE_FORCE_TRIAL_MAX, PROBE_OBJECTS, Race, build_cost,
-};
+pub(crate) use race::{BRUTE_FORCE_TRIAL_MAX, Race, build_cost};
 pub(crate) use registry::FLIGHT_PARTS;
 pub use registry::Structure;
 pub(crate) use scene_world::{cell_balls, listed_balls, periodic_balls};

@@ -43,51 +43,76 @@ const STEADY: f64 = 0.25;
 /// measured.
 const FIRST_SLICE: f64 = 1.0 / 4096.0;
 
-/// Above this many objects a run does not start on the brute force to measure it (its build
-/// alone makes n^2 / 2 certificates): it starts on the box structure, and the brute force is
-/// tried only when its build, estimated from the measured cost of a pair certificate
-/// ([`pair_cost`]), fits the budget or is paid back by the rest of the run.
-pub(crate) const BRUTE_FORCE_START_MAX: usize = 1500;
-
 /// The brute force is never tried above this many objects: its pairs (4.5 million here)
 /// would take gigabytes before any measurement could stop them.
 pub(crate) const BRUTE_FORCE_TRIAL_MAX: usize = 3000;
 
 /// The most objects in the sample [`pair_cost`] times.
-pub(crate) const PROBE_OBJECTS: usize = 64;
+const PROBE_OBJECTS: usize = 64;
 
 /// The wall seconds one pair certificate of this world costs to make: the brute force's build
 /// timed on a sample of a quarter of its objects (at least 16, at most [`PROBE_OBJECTS`], so
 /// that the probe costs at most a sixteenth of the whole build), spread over the ids (so over
 /// its sizes and shapes), with their plans at the world's time.
-pub(crate) fn pair_cost(world: &World) -> f64 {
+///
+/// The sample is built in two batches, the first of [`PROBE_FIRST`] objects. Where that
+/// batch's cost per pair, over the world's `n (n - 1) / 2` pairs, passes `worth` seconds
+/// [`ROUGH`] times over, the probe stops there with that cost: a build that dear is not tried
+/// (see [`Race`]), and the whole probe could cost more than the rest of a short run.
+pub(crate) fn pair_cost(world: &World, worth: f64) -> f64 {
     let sample = sample(world, PROBE_OBJECTS);
     if sample.len() < 2 {
         return 0.0;
     }
-    let k = sample.len() as f64;
+    let n = world.len() as f64;
+    let pairs = |k: usize| (k * k.saturating_sub(1) / 2) as f64;
+    let first = PROBE_FIRST.min(sample.len());
+    let k = sample.len();
     let start = Instant::now();
     // Passing through each other: the certificates, without walls or bounces.
     let mut probe = kinetic_core::Simulator::new(world.kind());
-    if probe.add_objects(sample).is_err() {
+    let mut rest = sample;
+    let tail = rest.split_off(first);
+    if probe.add_objects(rest).is_err() {
         return 0.0;
     }
-    start.elapsed().as_secs_f64() / (k * (k - 1.0) / 2.0)
+    let per_pair = start.elapsed().as_secs_f64() / pairs(first);
+    if first == k || per_pair * n * (n - 1.0) / 2.0 > ROUGH * worth {
+        return per_pair;
+    }
+    if probe.add_objects(tail).is_err() {
+        return 0.0;
+    }
+    start.elapsed().as_secs_f64() / pairs(k)
 }
+
+/// The objects in the first batch of [`pair_cost`]'s probe (120 pairs).
+const PROBE_FIRST: usize = 16;
+
+/// How far over what a build may cost the first batch of [`pair_cost`]'s probe must project
+/// it before the probe stops: that batch also pays the probe's first allocations, so its cost
+/// per pair can be a few times the whole sample's.
+const ROUGH: f64 = 4.0;
 
 /// The most objects in the sample [`build_cost`] builds.
 const BUILD_SAMPLE: usize = 256;
 
 /// The wall seconds a whole build of `structure` would cost in this world: for the brute
-/// force its pairs at [`pair_cost`]; for a box structure its build timed on a sample of a
+/// force its pairs at [`pair_cost`] (whose probe stops early where the build would cost more
+/// than `worth` several times over); for a box structure its build timed on a sample of a
 /// quarter of the objects (at least 16, at most [`BUILD_SAMPLE`]), spread over the ids, and
 /// scaled to all of them (a box structure's build grows about as its objects; a small
 /// sample's fixed costs make it an overestimate, which keeps trials within their budget).
 /// `least_flight` sizes the grids as the run's.
-pub(crate) fn build_cost(world: &World, structure: Structure, least_flight: f64) -> f64 {
+pub(crate) fn build_cost(
+    world: &World,
+    structure: Structure,
+    least_flight: f64,
+    worth: f64,
+) -> f64 {
     let n = world.len() as f64;
     if structure == Structure::BruteForce {
-        return pair_cost(world) * n * (n - 1.0) / 2.0;
+        return pair_cost(world, worth) * n * (n - 1.0) / 2.0;
     }
     let sample = sample(world, BUILD_SAMPLE);
     if sample.is_empty() {
@@ -202,8 +227,10 @@ pub(crate) struct Race {
     /// What each structure's build costs: measured where it was built, else estimated on a
     /// sample ([`build_cost`]) when first needed.
     builds: Vec<(Structure, f64)>,
-    /// Objects pass through each other (no response): the brute force's events are then
-    /// the contacts alone, which every structure processes too.
+    /// Balls moving linearly pass through each other (no response): each pair is one exact
+    /// certificate, so the brute force's events are the contacts alone, which every
+    /// structure processes too. (Cuboids, hulls and accelerations re-certify their pairs as
+    /// they close in: 170 cuboids ran 2x slower on the brute force than on the grid.)
     passing: bool,
     /// The share of pair events among the run's events so far.
     contact_share: f64,
@@ -224,7 +251,8 @@ impl Race {
             Vec::new()
         };
         let horizon = scene.horizon;
-        let passing = scene.response == Response::None;
+        let passing =
+            scene.response == Response::None && !super::scene_measures::heavy_pairs(scene);
         Race::with(
             to_try,
             horizon,
@@ -324,13 +352,13 @@ impl Race {
     /// The slice from `from` to `to` took `wall` seconds on the current structure (its build
     /// excluded). Returns the structure to switch to, if any. `build_cost` estimates what a
     /// structure's build would cost (see [`build_cost`]), called once a structure, when it is
-    /// weighed.
+    /// weighed, with the most that build may cost and be tried.
     pub(crate) fn slice_done(
         &mut self,
         from: f64,
         to: f64,
         wall: f64,
-        build_cost: &mut dyn FnMut(Structure) -> f64,
+        build_cost: &mut dyn FnMut(Structure, f64) -> f64,
     ) -> Option<Structure> {
         self.slices.push(Slice {
             structure: self.current,
@@ -448,7 +476,10 @@ impl Race {
     }
 
     /// The next structure to try, when the budget allows; otherwise settles on the leader.
-    fn next_trial(&mut self, build_cost: &mut dyn FnMut(Structure) -> f64) -> Option<Structure> {
+    fn next_trial(
+        &mut self,
+        build_cost: &mut dyn FnMut(Structure, f64) -> f64,
+    ) -> Option<Structure> {
         self.measured_wall = 0.0;
         let now = self.slices.last().map_or(0.0, |s| s.to);
         self.measured_from = now;
@@ -469,8 +500,13 @@ impl Race {
                 self.untried.push(next);
                 continue;
             }
+            // The most its build may cost and be tried, paid back or within the budget: an
+            // estimate may stop short once it passes that.
+            let worth = self
+                .payback_allowance(next, now)
+                .max((self.budget() - self.spent - run - leader) / 2.0);
             let estimating = Instant::now();
-            let build = self.build_of(next, build_cost);
+            let build = self.build_of(next, worth, build_cost);
             self.spent += estimating.elapsed().as_secs_f64();
             if self.pays_back(next, build, now) {
                 self.phase = Phase::Trial;
@@ -509,16 +545,22 @@ impl Race {
     ///   the difference over the rest of the run is more than its build, counted twice, and
     ///   the leader's.
     fn pays_back(&self, next: Structure, build: f64, now: f64) -> bool {
+        build < self.payback_allowance(next, now)
+    }
+
+    /// The most `next`'s build may cost and pay for itself (see [`Race::pays_back`]):
+    /// negative where it cannot.
+    fn payback_allowance(&self, next: Structure, now: f64) -> f64 {
         let rest = self.ahead(now);
         if next == Structure::BruteForce && self.passing {
-            return 2.0 * build < (1.0 - MARGIN - self.contact_share) * self.pace * rest;
+            return (1.0 - MARGIN - self.contact_share) * self.pace * rest / 2.0;
         }
         let leader = self.known_build(self.leader).unwrap_or(0.0);
         self.paces
             .iter()
             .find(|p| p.0 == next)
-            .is_some_and(|&(_, pace)| {
-                2.0 * build + leader < ((1.0 - MARGIN) * self.pace - pace) * rest
+            .map_or(f64::NEG_INFINITY, |&(_, pace)| {
+                (((1.0 - MARGIN) * self.pace - pace) * rest - leader) / 2.0
             })
     }
 
@@ -555,15 +597,17 @@ impl Race {
     }
 
     /// What `structure`'s build costs: as measured where it was built, else as estimated.
+    /// `worth` is the most it may cost and be tried (an estimate may stop short past it).
     fn build_of(
         &mut self,
         structure: Structure,
-        build_cost: &mut dyn FnMut(Structure) -> f64,
+        worth: f64,
+        build_cost: &mut dyn FnMut(Structure, f64) -> f64,
     ) -> f64 {
         if let Some(b) = self.known_build(structure) {
             return b;
         }
-        let b = build_cost(structure);
+        let b = build_cost(structure, worth);
         self.builds.push((structure, b));
         b
     }

@@ -38,7 +38,7 @@ fn run_with(
         assert!(to > now, "the race stalls at {now}");
         let wall = wall(race.current(), now, to, built);
         if race
-            .slice_done(now, to, wall, &mut |s| {
+            .slice_done(now, to, wall, &mut |s, _| {
                 // The brute force's 2,000 objects at 0.1 us a pair.
                 if s == Structure::BruteForce {
                     0.2
@@ -120,7 +120,7 @@ fn an_open_race_ends_on_the_fastest_within_its_share_of_the_run_so_far() {
             let limit = race.wall_limit(planned).unwrap_or(f64::INFINITY);
             let to = planned.min(now + limit / pace);
             let wall = pace * (to - now);
-            if race.slice_done(now, to, wall, &mut |_| 0.001).is_some() {
+            if race.slice_done(now, to, wall, &mut |_, _| 0.001).is_some() {
                 race.switched(0.001);
             }
             now = to;
@@ -155,7 +155,7 @@ fn the_leaders_pace_is_measured_no_longer_than_its_build_took() {
     let planned = race.slice_end(0.0);
     assert_eq!(race.wall_limit(planned), Some(0.01));
     // Cut at its limit halfway, the slice ends the measurement: the trials begin.
-    let next = race.slice_done(0.0, planned / 2.0, 0.01, &mut |_| 0.001);
+    let next = race.slice_done(0.0, planned / 2.0, 0.01, &mut |_, _| 0.001);
     assert_eq!(next, Some(Structure::Grid));
 }
 
@@ -259,7 +259,7 @@ fn a_runner_up_faster_than_the_leader_has_become_is_tried_outside_the_budget() {
         } else {
             pace(s, now) * (to - now)
         };
-        if let Some(next) = race.slice_done(now, to, wall, &mut |s| build(s)) {
+        if let Some(next) = race.slice_done(now, to, wall, &mut |s, _| build(s)) {
             race.switched(build(next));
         }
         now = to;
@@ -289,7 +289,7 @@ fn a_check_on_a_sliver_of_time_keeps_the_leaders_pace() {
     race.paces = vec![(Structure::Sweep, 0.05)];
     let sliver = 10.0 + 2.0 * f64::EPSILON * 10.0;
     race.next_check = sliver;
-    let mut build = |_| 0.001;
+    let mut build = |_, _| 0.001;
     assert_eq!(race.slice_done(10.0, sliver, 1e-6, &mut build), None);
     assert_eq!(race.pace, 0.01);
     assert_eq!(race.current(), Structure::Grid);

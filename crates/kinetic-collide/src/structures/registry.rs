@@ -150,31 +150,21 @@ impl Structure {
         }
     }
 
-    /// What the model says the cheapest box structure costs on `scene`, in seconds: its
-    /// build and what it spends beyond ([`cost::boxes_cost`]), the least over the loose grid,
-    /// the grid and the sweep (the spread rule's pick can be far off the cheapest where
-    /// bullets cross the scene: 1,213 balls with 58 bullets and a giant, sizes 1:7463, cost
-    /// 0.35 s on the sweep it names and 0.05 s on the loose grid). Weighed at the start of a
-    /// raced run against the rest of the brute force's build as measured; the race then finds
-    /// the fastest box structure.
-    pub(crate) fn boxes_cost_seconds(scene: &Scene) -> f64 {
-        let n = scene.objects.len();
-        let crossings = scene_measures::crossings(scene);
-        let contacts = scene_measures::contacts(scene);
-        [Structure::LooseGrid, Structure::Grid, Structure::Sweep]
-            .into_iter()
-            .map(|s| cost::boxes_cost(n, Structure::crossings_on(s, scene, crossings), contacts))
-            .fold(f64::INFINITY, f64::min)
-            * 1e-6
-    }
-
     /// The box structure the cost model picks for `scene` (the loose grid, the grid or the
-    /// sweep, by the spread of sizes and whether the objects barely move): where a raced run
-    /// starts when the brute force would cost too much to build just to be measured.
+    /// sweep, by the spread of sizes, whether the objects barely move and the sweep's
+    /// estimated work against the grid's).
     pub(crate) fn boxes_for(scene: &Scene) -> Structure {
         let n = scene.objects.len();
-        let resting = cost::barely_moving(n, scene_measures::crossings(scene));
-        cost::for_flights(scene.size_ratio(), n, resting)
+        let crossings = scene_measures::crossings(scene);
+        let resting = cost::barely_moving(n, crossings);
+        let grid = Structure::crossings_on(Structure::Grid, scene, crossings);
+        let sweep = Structure::crossings_on(Structure::Sweep, scene, crossings);
+        let sweep_share = if grid > 0.0 {
+            sweep / grid
+        } else {
+            f64::INFINITY
+        };
+        cost::for_flights(scene.size_ratio(), n, resting, sweep_share)
     }
 
     /// A fresh, empty candidate structure of this kind for a world of `kind` whose objects

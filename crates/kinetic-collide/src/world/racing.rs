@@ -13,7 +13,7 @@
 
 use super::World;
 use crate::structures::{Auto, BRUTE_FORCE_TRIAL_MAX, Race, Slice, Structure, build_cost};
-use kinetic_core::{Real, Response, WorldError};
+use kinetic_core::{Real, Response, Shape, WorldError};
 use std::time::{Duration, Instant};
 
 /// The race of a world on its default structure.
@@ -83,7 +83,12 @@ impl World {
                 racing.pick = Structure::from_name(name).unwrap_or(Structure::BruteForce);
                 racing.from = now;
                 racing.wall = 0.0;
-                let passing = self.inner.response() == Response::None;
+                // Balls moving linearly through each other: one exact certificate a pair.
+                let passing = self.inner.response() == Response::None
+                    && self.inner.bodies().iter().flatten().all(|b| {
+                        matches!(b.shape, Shape::Ball { .. })
+                            && b.plan.acceleration == kinetic_core::Vec3::ZERO
+                    });
                 let race = Race::open(racing.pick, self.inner.len(), passing, t - now);
                 racing.race.insert(race)
             }
@@ -114,12 +119,12 @@ impl World {
             let pairs = stats.events_by_kind.get("collision").copied().unwrap_or(0);
             race.contact_share(pairs as f64 / stats.events_total().max(1) as f64);
             let world: &World = self;
-            let next = race.slice_done(racing.from, to, racing.wall, &mut |s| {
+            let next = race.slice_done(racing.from, to, racing.wall, &mut |s, worth| {
                 if s == Structure::BruteForce && world.len() > BRUTE_FORCE_TRIAL_MAX {
                     // Its pairs would take gigabytes before a measurement could stop them.
                     f64::INFINITY
                 } else {
-                    build_cost(world, s, 0.0)
+                    build_cost(world, s, 0.0, worth)
                 }
             });
             racing.from = to;
