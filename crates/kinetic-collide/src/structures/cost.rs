@@ -40,6 +40,20 @@ pub(crate) const FEW_SPREAD: Real = 500.0;
 /// [`FEW_OBJECTS`], the sweep was faster or within 1.07x wherever its estimate was under a
 /// third of the grid's, save one run of 0.4 ms, and the grid was faster on most above.
 pub(crate) const SWEEP_SHARE: Real = 1.0 / 3.0;
+/// Where the sweep's estimated work is over this many times the grid's (see
+/// [`SWEEP_SHARE`]), the race does not try the sweep. On the 320 small draws of the choice
+/// space (`cargo bench --bench choice -- --draws 80 --max-objects 1500`, seeds 1, 1001, 2001
+/// and 3001) and the 40 of `--draws 40`, the sweep was never more than 1.02x faster than the
+/// grid there (268 objects, 0.59 s against 0.60 s), and up to 22x slower; on 67,609 balls
+/// with bullets its trial cost 4% of the run (its build, 0.22 s, and a slice cut short at
+/// once).
+pub(crate) const SWEEP_SKIP: Real = 10.0;
+
+/// Whether a race should try the sweep, whose estimated work is `sweep_share` of the grid's
+/// (see [`SWEEP_SKIP`]; infinite: not known).
+pub(crate) fn sweep_worth_trying(sweep_share: Real) -> bool {
+    !(sweep_share.is_finite() && sweep_share > SWEEP_SKIP)
+}
 
 /// The brute force's cost per pair of balls moving linearly (its one certificate), in
 /// microseconds, fitted on the choice family at 10 to 300 objects.
@@ -193,6 +207,10 @@ mod tests {
         assert_eq!(for_flights(100.0, many, false, 0.5), Structure::Grid);
         assert_eq!(for_flights(100.0, many, false, 0.2), Structure::Sweep);
         assert_eq!(for_flights(2.0, many, false, 0.2), Structure::LooseGrid);
+        // Not even tried where it would do ten times the grid's work.
+        assert!(sweep_worth_trying(5.0));
+        assert!(!sweep_worth_trying(20.0));
+        assert!(sweep_worth_trying(Real::INFINITY));
         assert!(barely_moving(1000, 50.0));
         assert!(!barely_moving(1000, 500.0));
         assert!(!barely_moving(1_000_000, 0.0));

@@ -243,9 +243,12 @@ impl Race {
     /// the brute force. An empty shortlist makes a run on `pick` alone.
     pub(crate) fn new(scene: &Scene, pick: Structure, build_seconds: f64) -> Race {
         let to_try = if pick.runs_in_a_world() && scene.periodic.is_none() {
+            // The model shortlists: not the sweep where it would do far more than the grid.
+            let share = Structure::sweep_share(scene, super::scene_measures::crossings(scene));
             shortlist(pick, scene.objects.len())
                 .into_iter()
                 .filter(|&s| s.applies_to(scene))
+                .filter(|&s| s != Structure::Sweep || super::cost::sweep_worth_trying(share))
                 .collect()
         } else {
             Vec::new()

@@ -157,14 +157,21 @@ impl Structure {
         let n = scene.objects.len();
         let crossings = scene_measures::crossings(scene);
         let resting = cost::barely_moving(n, crossings);
+        let share = Structure::sweep_share(scene, crossings);
+        cost::for_flights(scene.size_ratio(), n, resting, share)
+    }
+
+    /// The sweep's estimated work on `scene` over the grid's (see [`cost::SWEEP_SHARE`]),
+    /// for objects crossing their own sizes `crossings` times: infinite where the grid has
+    /// none.
+    pub(crate) fn sweep_share(scene: &Scene, crossings: f64) -> f64 {
         let grid = Structure::crossings_on(Structure::Grid, scene, crossings);
         let sweep = Structure::crossings_on(Structure::Sweep, scene, crossings);
-        let sweep_share = if grid > 0.0 {
+        if grid > 0.0 {
             sweep / grid
         } else {
             f64::INFINITY
-        };
-        cost::for_flights(scene.size_ratio(), n, resting, sweep_share)
+        }
     }
 
     /// A fresh, empty candidate structure of this kind for a world of `kind` whose objects
