@@ -71,9 +71,9 @@ pub(crate) fn pair_cost(world: &World, worth: f64) -> f64 {
     let start = Instant::now();
     // Passing through each other: the certificates, without walls or bounces.
     let mut probe = kinetic_core::Simulator::new(world.kind());
-    let mut rest = sample;
-    let tail = rest.split_off(first);
-    if probe.add_objects(rest).is_err() {
+    let mut batch = sample;
+    let tail = batch.split_off(first);
+    if probe.add_objects(batch).is_err() {
         return 0.0;
     }
     let per_pair = start.elapsed().as_secs_f64() / pairs(first);

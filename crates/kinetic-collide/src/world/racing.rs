@@ -76,23 +76,24 @@ impl World {
         if t.is_nan() || t <= now {
             return self.inner.advance_to(t);
         }
-        let race = match &mut racing.race {
-            Some(race) => race,
-            None => {
-                let name = self.inner.structure_name();
-                racing.pick = Structure::from_name(name).unwrap_or(Structure::BruteForce);
-                racing.from = now;
-                racing.wall = 0.0;
-                // Balls moving linearly through each other: one exact certificate a pair.
-                let passing = self.inner.response() == Response::None
-                    && self.inner.bodies().iter().flatten().all(|b| {
-                        matches!(b.shape, Shape::Ball { .. })
-                            && b.plan.acceleration == kinetic_core::Vec3::ZERO
-                    });
-                let race = Race::open(racing.pick, self.inner.len(), passing, t - now);
-                racing.race.insert(race)
-            }
-        };
+        let race =
+            match &mut racing.race {
+                Some(race) => race,
+                None => {
+                    let name = self.inner.structure_name();
+                    racing.pick = Structure::from_name(name).unwrap_or(Structure::BruteForce);
+                    racing.from = now;
+                    racing.wall = 0.0;
+                    // Balls moving linearly through each other: one exact certificate a pair.
+                    let passing =
+                        self.inner.response() == Response::None
+                            && self.inner.bodies().iter().flatten().all(|b| {
+                                matches!(b.shape, Shape::Ball { .. }) && b.plan.degree() <= 1
+                            });
+                    let race = Race::open(racing.pick, self.inner.len(), passing, t - now);
+                    racing.race.insert(race)
+                }
+            };
         loop {
             let planned = race.slice_end(racing.from);
             let now = self.inner.now();
