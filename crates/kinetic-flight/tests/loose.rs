@@ -50,6 +50,17 @@ fn check(d: &Driven, bodies: &Bodies, t: f64) {
 
 #[test]
 fn a_crowd_with_fast_falling_and_resting_bodies_keeps_every_overlapping_pair() {
+    crowd(LooseGrid::new());
+}
+
+#[test]
+fn a_crowd_filed_with_staggered_regions_keeps_every_overlapping_pair() {
+    crowd(LooseGrid::new().staggered());
+}
+
+/// Drives a crowd of drifting, resting, fast falling and large bodies over a resting slab
+/// through `grid`, with re-plans and removals, checking its candidates at each step.
+fn crowd(grid: LooseGrid) {
     let mut rng = ChaCha8Rng::seed_from_u64(11);
     let mut bodies: Vec<Option<Body>> = Vec::new();
     // 250 drifting balls, 40 at rest, 20 falling fast, 6 large, in a 20-unit cube.
@@ -87,7 +98,7 @@ fn a_crowd_with_fast_falling_and_resting_bodies_keeps_every_overlapping_pair() {
             .into_shape(),
         plan: FlightPlan::at_rest(Vec3::new(0.0, -10.5, 0.0)),
     }));
-    let mut d = Driven::new(LooseGrid::new());
+    let mut d = Driven::new(grid);
     let ids: Vec<u32> = (0..bodies.len() as u32).collect();
     d.grid.insert_many(&ids, &bodies, 0.0, &mut d.changes);
     d.absorb();
@@ -133,6 +144,44 @@ fn a_crowd_with_fast_falling_and_resting_bodies_keeps_every_overlapping_pair() {
         d.candidates().len() < 20 * overlapping.max(10),
         "{} candidates for {overlapping} overlapping boxes",
         d.candidates().len()
+    );
+}
+
+/// Balls filed together all leave their regions a flight after the build; staggered, they
+/// leave them through that flight, about evenly.
+#[test]
+fn staggered_regions_end_through_the_first_flight() {
+    // 400 balls of width 1 at speed 1 along x: a region covers 2 widths of travel, so the
+    // first re-anchors come 2 time units and a margin after the build.
+    let bodies: Vec<Option<Body>> = (0..400)
+        .map(|k| {
+            let p = Vec3::new(0.0, 3.0 * (k % 20) as f64, 3.0 * (k / 20) as f64);
+            Some(Body {
+                shape: Shape::Ball { radius: 0.5 },
+                plan: FlightPlan::linear(p, Vec3::X),
+            })
+        })
+        .collect();
+    let anchors_by = |grid: LooseGrid, t: f64| {
+        let mut d = Driven::new(grid);
+        let ids: Vec<u32> = (0..bodies.len() as u32).collect();
+        d.grid.insert_many(&ids, &bodies, 0.0, &mut d.changes);
+        d.absorb();
+        d.advance(&bodies, t);
+        d.grid.validate(&bodies, t).unwrap();
+        let counters: BTreeMap<&str, f64> = d.grid.counters().into_iter().collect();
+        counters["anchors"] - 400.0
+    };
+    assert_eq!(anchors_by(LooseGrid::new(), 1.0), 0.0);
+    let first = anchors_by(LooseGrid::new().staggered(), 1.0);
+    let both = anchors_by(LooseGrid::new().staggered(), 2.0);
+    assert!(
+        (120.0..=280.0).contains(&first),
+        "{first} re-anchors by t = 1"
+    );
+    assert!(
+        both > first + 120.0,
+        "{first} then {both} re-anchors by t = 2"
     );
 }
 

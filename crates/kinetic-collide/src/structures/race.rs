@@ -164,6 +164,13 @@ pub struct Slice {
     pub build_seconds: f64,
 }
 
+/// A trial's pace over its last two slices: steady where they agree, else the last one's.
+#[derive(Clone, Copy, Debug)]
+enum Trend {
+    Steady(f64),
+    Moving(f64),
+}
+
 /// What the race is doing.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Phase {
@@ -416,12 +423,30 @@ impl Race {
                 if !done && pace <= ABORT * self.pace {
                     return None;
                 }
+                // A trial that ran its slice is judged by its steady pace: a structure built
+                // afresh has its certificates fresh, and one whose certificates last a while
+                // (a loose grid's regions, a grid's cells for a least flight) does almost
+                // nothing until the first of them fail (a loose grid on 53,990 balls ran its
+                // first three quarters at a fortieth of its pace, its fourth at a third).
+                let (pace, trusted) = if done {
+                    match self.trial_pace() {
+                        Trend::Steady(steady) => (steady, true),
+                        Trend::Moving(_) if self.may_extend(span) => {
+                            self.slice *= 2.0;
+                            return None;
+                        }
+                        // Not steady within the budget: no ground to leave the leader.
+                        Trend::Moving(last) => (last.max(pace), false),
+                    }
+                } else {
+                    (pace, true)
+                };
                 // Over the leader's pace on the same slice: what the trial cost.
                 self.spent += (self.measured_wall - self.pace * span).max(0.0);
                 self.paces.retain(|&(s, _)| s != self.current);
                 self.paces.push((self.current, pace));
                 let trial = self.current;
-                if pace < self.pace * (1.0 - MARGIN) {
+                if trusted && pace < self.pace * (1.0 - MARGIN) {
                     // The leader it beat stays a runner-up, at the pace it last ran: a trial
                     // measured on a later slice than the leader may have met lighter work,
                     // and the checks try the runner-up again.
@@ -476,6 +501,36 @@ impl Race {
                 self.next_trial(build_cost)
             }
         }
+    }
+
+    /// The trial's pace over its last two slices, and whether they agree (within
+    /// [`STEADY`]); a trial of one slice is steady at its pace.
+    fn trial_pace(&self) -> Trend {
+        let own = |s: &&Slice| s.structure == self.current && s.from >= self.measured_from;
+        let mut last = self.slices.iter().rev().take_while(own);
+        let pace = |s: &Slice| (s.wall_seconds - s.build_seconds, s.to - s.from);
+        let Some((w4, s4)) = last.next().map(pace) else {
+            return Trend::Steady(self.measured_wall / self.slice);
+        };
+        let Some((w3, s3)) = last.next().map(pace) else {
+            return Trend::Steady(w4 / s4);
+        };
+        let (p3, p4) = (w3 / s3, w4 / s4);
+        if (p4 - p3).abs() <= STEADY * p3 {
+            Trend::Steady((w3 + w4) / (s3 + s4))
+        } else {
+            Trend::Moving(p4)
+        }
+    }
+
+    /// Whether a trial that has run `span` may run as long again: its time beyond the
+    /// leader's pace so far and on the doubled slice, and the leader's rebuild, fit what is
+    /// left of the budget.
+    fn may_extend(&self, span: f64) -> bool {
+        let beyond = (self.measured_wall - self.pace * span).max(0.0);
+        let more = (ABORT - 1.0) * self.pace * self.slice;
+        let leader = self.known_build(self.leader).unwrap_or(0.0);
+        self.spent + beyond + more + leader <= self.budget()
     }
 
     /// The next structure to try, when the budget allows; otherwise settles on the leader.

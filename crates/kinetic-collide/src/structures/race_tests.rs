@@ -327,3 +327,38 @@ fn a_leader_beaten_on_a_lighter_slice_is_tried_again() {
         "{slices:?}"
     );
 }
+
+/// A trial whose structure does little right after its build (fresh certificates that last:
+/// a loose grid's regions) is measured until its pace is steady: the loose grid's pace
+/// grows from nothing to three times the grid's over the 4 units after each build, then
+/// stays there.
+#[test]
+fn a_trial_quiet_after_its_build_is_measured_until_steady() {
+    // The wall seconds from `built` to `t`: the ramp's integral, then 0.03 a unit.
+    let ramp = 4.0;
+    let upto = |t: f64| {
+        let r = t.min(ramp);
+        0.03 * r * r / (2.0 * ramp) + 0.03 * (t - r).max(0.0)
+    };
+    let quiet = |s: Structure, from: f64, to: f64, built: f64| match s {
+        Structure::LooseGrid => upto(to - built) - upto(from - built),
+        Structure::Grid => 0.01 * (to - from),
+        _ => to - from,
+    };
+    let mut race = Race::new(&scene(2000), Structure::Grid, 0.001);
+    let slices = run_with(&mut race, quiet, 0.001);
+    let loose: f64 = slices
+        .iter()
+        .filter(|s| s.structure == Structure::LooseGrid)
+        .map(|s| s.to - s.from)
+        .sum();
+    assert!(loose < 7.0, "{slices:?}");
+    // Within the share of the grid's own run.
+    let total: f64 = slices.iter().map(|s| s.wall_seconds).sum();
+    assert!(total < 0.01 * 100.0 * (1.0 + SHARE), "{total} {slices:?}");
+    assert_eq!(
+        slices.last().unwrap().structure,
+        Structure::Grid,
+        "{slices:?}"
+    );
+}

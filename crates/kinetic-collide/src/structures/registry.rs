@@ -199,7 +199,9 @@ impl Structure {
             Structure::Guards => Ok(Box::new(Guards::new(Guards::fatness_for(shapes)))),
             Structure::Sweep => Ok(Box::new(Sweep::new())),
             Structure::Grid => Ok(Box::new(Grid::new().with_least_flight(least_flight))),
-            Structure::LooseGrid => Ok(Box::new(LooseGrid::new().with_least_flight(least_flight))),
+            Structure::LooseGrid => Ok(Box::new(
+                LooseGrid::new().with_least_flight(least_flight).staggered(),
+            )),
             Structure::Cells | Structure::Lists | Structure::Periodic => Err(
                 "runs whole scenes, not inside a world; frames are drawn from a world (use \
                  --structure grid)",

@@ -10,17 +10,19 @@ fn pair_change(x: u32, y: u32, delta: i32) -> PairChange {
 }
 
 impl LooseGrid {
-    /// Gives member `id` a fresh region from its plan at `now`, finds its partners again and
-    /// reports the pairs that change.
+    /// Gives member `id` a fresh region from its plan at `now`, as if anchored `age` of its
+    /// flight ago (see [`LooseGrid::region`]), finds its partners again and reports the pairs
+    /// that change.
     pub(super) fn anchor(
         &mut self,
         id: u32,
         bodies: &Bodies,
         now: Real,
+        age: Real,
         changes: &mut Vec<PairChange>,
     ) {
         self.anchors += 1;
-        let (lo, hi) = self.region(bodies, id, now);
+        let (lo, hi) = self.region(bodies, id, now, age);
         // A region that still covers some of the same cells stays filed there: it leaves
         // only the cells it no longer covers and enters only the new ones.
         let mut kept_slots = None;

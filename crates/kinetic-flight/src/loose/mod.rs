@@ -28,6 +28,10 @@
 //!   widths: its re-anchors are bounded by the time it flies, not by how far it goes. A
 //!   region more than 8 cells long is big and sits in the big list.
 //!
+//! - Staggered start ([`LooseGrid::staggered`]): objects filed together get regions as if
+//!   anchored at times spread over their last flight, so that their re-anchors do not come
+//!   in one wave a flight after the build.
+//!
 //! The candidates are a superset of the sweep's (boxes inside overlapping regions), so a
 //! caller that needs exact contacts certifies them itself. It suits bodies whose plans keep
 //! failing (a settling pile) and crowds that fall together, where a structure of exact box
@@ -83,6 +87,8 @@ pub struct LooseGrid {
     horizon: Real,
     /// ... nor less than this much (when it is shorter than the horizon).
     least_flight: Real,
+    /// Whether objects filed together get staggered regions ([`LooseGrid::staggered`]).
+    staggered: bool,
     /// The cells' side (set by the first objects' regions, their median width).
     cell: Option<Real>,
     /// The median box width of the first objects: no margin is wider than `margin` of it (a
@@ -135,6 +141,7 @@ impl LooseGrid {
             margin: margin.max(1e-6),
             horizon: Real::INFINITY,
             least_flight: 0.0,
+            staggered: false,
             cell: None,
             typical: Real::INFINITY,
             members: Vec::new(),
@@ -181,6 +188,16 @@ impl LooseGrid {
         if flight > 0.0 && flight.is_finite() {
             self.least_flight = flight;
         }
+        self
+    }
+
+    /// The same loose grid whose objects, when filed together (a build), get regions as if
+    /// anchored at times spread over the last flight, rather than all from now: their
+    /// re-anchors then come at the rate they keep over a long run from the start, instead
+    /// of none for a flight and then all at once. A run timed on its first stretch (a
+    /// structure tried mid-run against another) then measures its lasting pace.
+    pub fn staggered(mut self) -> LooseGrid {
+        self.staggered = true;
         self
     }
 

@@ -18,8 +18,10 @@ impl LooseGrid {
         })
     }
 
-    /// A fresh region for object `id` from `now`: its corners.
-    pub(super) fn region(&self, bodies: &Bodies, id: u32, now: Real) -> (Vec3, Vec3) {
+    /// A fresh region for object `id` at `now`: its corners. The region covers the box's
+    /// sweep over a flight of `h` from `age h` before `now` (`age` in `[0, 1)`; 0 for a
+    /// region from `now`), so that it ends `(1 - age) h` (and the margin) after `now`.
+    pub(super) fn region(&self, bodies: &Bodies, id: u32, now: Real, age: Real) -> (Vec3, Vec3) {
         let w = box_width(bodies, id);
         let plan = &bodies[id as usize].as_ref().expect("a live object").plan;
         let (v, a) = (plan.velocity_at(now).length(), plan.acceleration.length());
@@ -34,7 +36,7 @@ impl LooseGrid {
         }
         .max(self.least_flight)
         .min(self.horizon);
-        let keys = Self::box_keys(bodies, id, now);
+        let keys = Self::box_keys(bodies, id, now - age * h);
         // A margin of a few float spacings at least, so that a point object leaves after now.
         let scale = plan.position_at(now).abs().max_element() + w;
         let m = (self.margin * w.min(self.typical))

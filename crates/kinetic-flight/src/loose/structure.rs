@@ -6,6 +6,12 @@ use crate::cell_math::box_width;
 use kinetic_core::kds::{Bodies, PairChange};
 use kinetic_core::{CandidateStructure, Real, Vec3};
 
+/// A share of a flight in `[0, 1)` for object `id`, spread evenly over the ids (the
+/// fractional parts of multiples of the golden ratio).
+fn stagger(id: u32) -> Real {
+    (Real::from(id) * 0.618_033_988_749_894_9).fract()
+}
+
 impl CandidateStructure for LooseGrid {
     fn name(&self) -> &'static str {
         "loose-grid"
@@ -28,7 +34,7 @@ impl CandidateStructure for LooseGrid {
             }
             // Cells as wide as the first regions' median.
             self.cell = median(ids.iter().map(|&id| {
-                let (lo, hi) = self.region(bodies, id, now);
+                let (lo, hi) = self.region(bodies, id, now, 0.0);
                 (hi - lo).max_element()
             }));
         }
@@ -37,9 +43,13 @@ impl CandidateStructure for LooseGrid {
         {
             self.members.resize(top as usize + 1, None);
         }
+        // Filed together, regions are staggered when asked: else they would all end a
+        // flight from now, in one wave.
+        let staggered = self.staggered && ids.len() > 1;
         for &id in ids {
             if !self.present(id) {
-                self.anchor(id, bodies, now, changes);
+                let age = if staggered { stagger(id) } else { 0.0 };
+                self.anchor(id, bodies, now, age, changes);
             }
         }
     }
@@ -69,7 +79,7 @@ impl CandidateStructure for LooseGrid {
             self.members[id as usize].as_mut().expect("a member").exit = exit;
             self.schedule(id, exit);
         } else {
-            self.anchor(id, bodies, now, changes);
+            self.anchor(id, bodies, now, 0.0, changes);
         }
     }
 
@@ -83,7 +93,7 @@ impl CandidateStructure for LooseGrid {
         changes: &mut Vec<PairChange>,
     ) -> &'static str {
         if let Some((id, t)) = self.exits.peek() {
-            self.anchor(id, bodies, t, changes);
+            self.anchor(id, bodies, t, 0.0, changes);
         }
         "anchor"
     }
