@@ -362,3 +362,41 @@ fn a_trial_quiet_after_its_build_is_measured_until_steady() {
         "{slices:?}"
     );
 }
+
+/// Builds estimated on a sample are scaled by how far the start's own estimate fell short of
+/// its measured build: every box structure's whole build here costs four times its sample's
+/// estimate (0.04 s against 0.01 s), so a trial would cost its build and the leader's
+/// rebuild, 0.08 s, most of the 0.1 s budget, and none is tried. Where the start's build is
+/// its estimate, the same trials are tried.
+#[test]
+fn sampled_builds_are_scaled_by_the_starts_measured_one() {
+    let trials = |start_build: f64| {
+        let mut race = Race::new(&scene(2000), Structure::Grid, start_build);
+        let mut now = 0.0;
+        while now < 100.0 {
+            let to = race.slice_end(now);
+            assert!(to > now, "the race stalls at {now}");
+            let wall = paces(race.current()) * (to - now);
+            // (The brute force's pairs far too dear to try.)
+            let mut estimate = |s, _| {
+                if s == Structure::BruteForce {
+                    10.0
+                } else {
+                    0.01
+                }
+            };
+            if race.slice_done(now, to, wall, &mut estimate).is_some() {
+                race.switched(start_build);
+            }
+            now = to;
+        }
+        let slices = race.into_slices();
+        assert_eq!(slices.last().unwrap().structure, Structure::Grid);
+        slices
+            .iter()
+            .filter(|s| s.structure != Structure::Grid)
+            .count()
+    };
+    assert_eq!(trials(0.04), 0);
+    assert!(trials(0.01) > 0);
+}
