@@ -34,9 +34,17 @@ fn run_with(
     let mut now = 0.0;
     let mut built = 0.0;
     while now < 100.0 {
-        let to = race.slice_end(now);
+        let mut to = race.slice_end(now);
         assert!(to > now, "the race stalls at {now}");
-        let wall = wall(race.current(), now, to, built);
+        let mut wall = wall(race.current(), now, to, built);
+        // A slice past its wall-clock limit stops there, as a run's does (taken here at the
+        // slice's mean pace).
+        if let Some(limit) = race.wall_limit(to)
+            && wall > limit
+        {
+            to = now + (to - now) * limit / wall;
+            wall = limit;
+        }
         if race
             .slice_done(now, to, wall, &mut |s, _| {
                 // The brute force's 2,000 objects at 0.1 us a pair.
@@ -347,12 +355,6 @@ fn a_trial_quiet_after_its_build_is_measured_until_steady() {
     };
     let mut race = Race::new(&scene(2000), Structure::Grid, 0.001);
     let slices = run_with(&mut race, quiet, 0.001);
-    let loose: f64 = slices
-        .iter()
-        .filter(|s| s.structure == Structure::LooseGrid)
-        .map(|s| s.to - s.from)
-        .sum();
-    assert!(loose < 7.0, "{slices:?}");
     // Within the share of the grid's own run.
     let total: f64 = slices.iter().map(|s| s.wall_seconds).sum();
     assert!(total < 0.01 * 100.0 * (1.0 + SHARE), "{total} {slices:?}");

@@ -110,13 +110,13 @@ impl Structure {
     /// A periodic box gets the periodic structure, the only one that wraps. Elastic balls
     /// moving linearly inside walls get the neighbour lists when their sizes are within a
     /// factor of two (the cell grid would hold them on one level), else the cell grid when it
-    /// fits their sizes: one scheduled event per ball either way. Otherwise the cost model shortlists: the brute force where its pairs
-    /// cost less than a box structure's objects, crossings and contacts (a few dozen objects,
-    /// or a few hundred flying far without bouncing), else the box structure that fits the
-    /// spread of sizes and whether the objects barely move (the loose grid, the grid or the
-    /// sweep). Plane worlds are held by the same box structures (a rolling ball's disc holds
-    /// its contacts). The paper's other structures (rolling tree, guards) stay selectable by
-    /// name.
+    /// fits their sizes: one scheduled event per ball either way. Otherwise the cost model
+    /// shortlists: the brute force where its pairs cost less than a box structure's objects,
+    /// crossings and contacts (a few dozen objects, or a few hundred flying far without
+    /// bouncing), else the box structure that fits the spread of sizes and whether the objects
+    /// stay within their first loose regions (the loose grid, the grid or the sweep). Plane
+    /// worlds are held by the same box structures (a rolling ball's disc holds its contacts).
+    /// The paper's other structures (rolling tree, guards) stay selectable by name.
     pub fn for_scene(scene: &Scene) -> Structure {
         if scene.periodic.is_some() {
             return Structure::Periodic;
@@ -151,12 +151,12 @@ impl Structure {
     }
 
     /// The box structure the cost model picks for `scene` (the loose grid, the grid or the
-    /// sweep, by the spread of sizes, whether the objects barely move and the sweep's
-    /// estimated work against the grid's).
+    /// sweep, by the spread of sizes, whether the objects move past their first loose regions
+    /// and the sweep's estimated work against the grid's).
     pub(crate) fn boxes_for(scene: &Scene) -> Structure {
         let n = scene.objects.len();
         let crossings = scene_measures::crossings(scene);
-        let resting = cost::barely_moving(n, crossings);
+        let resting = cost::within_first_regions(n, crossings);
         let share = Structure::sweep_share(scene, crossings);
         cost::for_flights(scene.size_ratio(), n, resting, share)
     }
