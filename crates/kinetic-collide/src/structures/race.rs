@@ -595,11 +595,10 @@ impl Race {
                 return Some(next);
             }
             // The trial's build counts BUILD_SPREAD times, and the leader's build once more
-            // if it loses. Where
-            // its whole slice does not fit what is left, the slice is cut to what does, down
-            // to the least that measures it (20,000 drifting balls: the grid's trial, a
-            // fourth of the budget, was not tried for a slice of half of it, and the loose
-            // grid ran 2.8x the grid's time).
+            // if it loses. Where its whole slice does not fit what is left, the slice is cut
+            // to what does, down to the least that measures it (20,000 drifting balls: the
+            // grid's trial, a fourth of the budget, was not tried for a slice of half of it,
+            // and the loose grid ran 2.8x the grid's time).
             let room = self.budget() - self.spent - BUILD_SPREAD * build - leader;
             if room >= least {
                 self.base_slice = Some(self.slice);
