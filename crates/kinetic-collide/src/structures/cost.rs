@@ -121,7 +121,7 @@ pub(crate) fn boxes_cost(n: usize, crossings: Real, contacts: Real) -> Real {
 /// (`docs/results/choice.md`), in a free world or rolling on a plane alike:
 ///
 /// 1. objects of alike sizes (within [`LOOSE_SPREAD`]) that move past their first regions
-///    (not `resting`, see [`within_first_regions`]): the loose grid, one certificate per
+///    (not `stays`, see [`within_first_regions`]): the loose grid, one certificate per
 ///    object;
 /// 2. within [`GRID_SPREAD`]: the hierarchical grid, exact box pairs level by level (for
 ///    objects that barely move, the cheapest to build), unless fewer than [`FEW_OBJECTS`]
@@ -130,9 +130,9 @@ pub(crate) fn boxes_cost(n: usize, crossings: Real, contacts: Real) -> Real {
 /// 3. otherwise the sweep, whose sorted lists do not care about sizes.
 ///
 /// The guards are never picked: on every scene measured, one of the three is faster.
-pub(crate) fn for_flights(spread: Real, n: usize, resting: bool, sweep_share: Real) -> Structure {
+pub(crate) fn for_flights(spread: Real, n: usize, stays: bool, sweep_share: Real) -> Structure {
     let few = n < FEW_OBJECTS && spread > FEW_SPREAD;
-    if spread <= LOOSE_SPREAD && !resting {
+    if spread <= LOOSE_SPREAD && !stays {
         Structure::LooseGrid
     } else if spread <= GRID_SPREAD && !few && sweep_share >= SWEEP_SHARE {
         Structure::Grid
@@ -186,8 +186,8 @@ mod tests {
     use super::*;
 
     /// The rule where the sweep's work is not known.
-    fn ff(spread: Real, n: usize, resting: bool) -> Structure {
-        for_flights(spread, n, resting, Real::INFINITY)
+    fn ff(spread: Real, n: usize, stays: bool) -> Structure {
+        for_flights(spread, n, stays, Real::INFINITY)
     }
 
     #[test]

@@ -156,9 +156,9 @@ impl Structure {
     pub(crate) fn boxes_for(scene: &Scene) -> Structure {
         let n = scene.objects.len();
         let crossings = scene_measures::crossings(scene);
-        let resting = cost::within_first_regions(n, crossings);
+        let stays = cost::within_first_regions(n, crossings);
         let share = Structure::sweep_share(scene, crossings);
-        cost::for_flights(scene.size_ratio(), n, resting, share)
+        cost::for_flights(scene.size_ratio(), n, stays, share)
     }
 
     /// The sweep's estimated work on `scene` over the grid's (see [`cost::SWEEP_SHARE`]),
