@@ -13,9 +13,8 @@
 //! slices; a scene whose work moves along its horizon is measured again at each check.
 
 use super::Structure;
-use crate::World;
 use crate::scene::Scene;
-use kinetic_core::{FlightPlan, Response, Shape};
+use kinetic_core::Response;
 use std::time::Instant;
 
 /// The share of the run's projected wall time the trials may cost (builds, rebuilds and
@@ -52,107 +51,6 @@ const FIRST_SLICE: f64 = 1.0 / 4096.0;
 /// The brute force is never tried above this many objects: its pairs (4.5 million here)
 /// would take gigabytes before any measurement could stop them.
 pub(crate) const BRUTE_FORCE_TRIAL_MAX: usize = 3000;
-
-/// The most objects in the sample [`pair_cost`] times.
-const PROBE_OBJECTS: usize = 64;
-
-/// The wall seconds one pair certificate of this world costs to make: the brute force's build
-/// timed on a sample of a quarter of its objects (at least 16, at most [`PROBE_OBJECTS`], so
-/// that the probe costs at most a sixteenth of the whole build), spread over the ids (so over
-/// its sizes and shapes), with their plans at the world's time.
-///
-/// The sample is built in two batches, the first of [`PROBE_FIRST`] objects. Where that
-/// batch's cost per pair, over the world's `n (n - 1) / 2` pairs, passes `worth` seconds
-/// [`ROUGH`] times over, the probe stops there with that cost: a build that dear is not tried
-/// (see [`Race`]), and the whole probe could cost more than the rest of a short run.
-pub(crate) fn pair_cost(world: &World, worth: f64) -> f64 {
-    let sample = sample(world, PROBE_OBJECTS);
-    if sample.len() < 2 {
-        return 0.0;
-    }
-    let n = world.len() as f64;
-    let pairs = |k: usize| (k * k.saturating_sub(1) / 2) as f64;
-    let first = PROBE_FIRST.min(sample.len());
-    let k = sample.len();
-    let start = Instant::now();
-    // Passing through each other: the certificates, without walls or bounces.
-    let mut probe = kinetic_core::Simulator::new(world.kind());
-    let mut batch = sample;
-    let tail = batch.split_off(first);
-    if probe.add_objects(batch).is_err() {
-        return 0.0;
-    }
-    let per_pair = start.elapsed().as_secs_f64() / pairs(first);
-    if first == k || per_pair * n * (n - 1.0) / 2.0 > ROUGH * worth {
-        return per_pair;
-    }
-    if probe.add_objects(tail).is_err() {
-        return 0.0;
-    }
-    start.elapsed().as_secs_f64() / pairs(k)
-}
-
-/// The objects in the first batch of [`pair_cost`]'s probe (120 pairs).
-const PROBE_FIRST: usize = 16;
-
-/// How far over what a build may cost the first batch of [`pair_cost`]'s probe must project
-/// it before the probe stops: that batch also pays the probe's first allocations, so its cost
-/// per pair can be a few times the whole sample's.
-const ROUGH: f64 = 4.0;
-
-/// The most objects in the sample [`build_cost`] builds.
-const BUILD_SAMPLE: usize = 256;
-
-/// The wall seconds a whole build of `structure` would cost in this world: for the brute
-/// force its pairs at [`pair_cost`] (whose probe stops early where the build would cost more
-/// than `worth` several times over); for a box structure its build timed on a sample of a
-/// quarter of the objects (at least 16, at most [`BUILD_SAMPLE`]), spread over the ids, and
-/// scaled to all of them (a box structure's build grows about as its objects; a small
-/// sample's fixed costs make it an overestimate, which keeps trials within their budget).
-/// `least_flight` sizes the grids as the run's.
-pub(crate) fn build_cost(
-    world: &World,
-    structure: Structure,
-    least_flight: f64,
-    worth: f64,
-) -> f64 {
-    let n = world.len() as f64;
-    if structure == Structure::BruteForce {
-        return pair_cost(world, worth) * n * (n - 1.0) / 2.0;
-    }
-    let sample = sample(world, BUILD_SAMPLE);
-    if sample.is_empty() {
-        return 0.0;
-    }
-    let k = sample.len() as f64;
-    let shapes: Vec<Shape> = sample.iter().map(|o| o.0.clone()).collect();
-    let start = Instant::now();
-    let Ok(candidates) = structure.build(world.kind(), &shapes, least_flight) else {
-        return 0.0;
-    };
-    let Ok(mut probe) =
-        kinetic_core::Simulator::with_structure(world.kind(), Response::None, None, candidates)
-    else {
-        return 0.0;
-    };
-    if probe.add_objects(sample).is_err() {
-        return 0.0;
-    }
-    start.elapsed().as_secs_f64() * n / k
-}
-
-/// A quarter of the world's objects (at least 16, at most `most`), spread over the ids (so
-/// over their sizes and shapes), with their plans at the world's time.
-fn sample(world: &World, most: usize) -> Vec<(Shape, FlightPlan)> {
-    let bodies: Vec<&kinetic_core::Body> = world.bodies().iter().flatten().collect();
-    let size = (bodies.len() / 4).clamp(16, most);
-    let step = bodies.len().div_ceil(size).max(1);
-    bodies
-        .iter()
-        .step_by(step)
-        .map(|b| (b.shape.clone(), b.plan))
-        .collect()
-}
 
 /// One slice of a run and the structure that ran it.
 #[derive(Clone, Debug, PartialEq)]
@@ -238,7 +136,7 @@ pub(crate) struct Race {
     /// The build that began the current slice, to note on it.
     build: f64,
     /// What each structure's build costs: measured where it was built, else estimated on a
-    /// sample ([`build_cost`]) when first needed.
+    /// sample ([`super::build_cost`]) when first needed.
     builds: Vec<(Structure, f64)>,
     /// Balls moving linearly pass through each other (no response): each pair is one exact
     /// certificate, so the brute force's events are the contacts alone, which every
@@ -376,8 +274,8 @@ impl Race {
 
     /// The slice from `from` to `to` took `wall` seconds on the current structure (its build
     /// excluded). Returns the structure to switch to, if any. `build_cost` estimates what a
-    /// structure's build would cost (see [`build_cost`]), called once a structure, when it is
-    /// weighed, with the most that build may cost and be tried.
+    /// structure's build would cost (see [`super::build_cost`]), called once a structure,
+    /// when it is weighed, with the most that build may cost and be tried.
     pub(crate) fn slice_done(
         &mut self,
         from: f64,
