@@ -372,7 +372,7 @@ fn a_trial_quiet_after_its_build_is_measured_until_steady() {
 /// its estimate, the same trials are tried.
 #[test]
 fn sampled_builds_are_scaled_by_the_starts_measured_one() {
-    let trials = |start_build: f64| {
+    let trials = |start_build: f64, sampled: f64| {
         let mut race = Race::new(&scene(2000), Structure::Grid, start_build);
         let mut now = 0.0;
         while now < 100.0 {
@@ -384,7 +384,7 @@ fn sampled_builds_are_scaled_by_the_starts_measured_one() {
                 if s == Structure::BruteForce {
                     10.0
                 } else {
-                    0.01
+                    sampled
                 }
             };
             if race.slice_done(now, to, wall, &mut estimate).is_some() {
@@ -399,6 +399,12 @@ fn sampled_builds_are_scaled_by_the_starts_measured_one() {
             .filter(|s| s.structure != Structure::Grid)
             .count()
     };
-    assert_eq!(trials(0.04), 0);
-    assert!(trials(0.01) > 0);
+    // Estimated at 0.01: tried where the start's build took what its estimate said, not
+    // where it took four times as long.
+    assert_eq!(trials(0.04, 0.01), 0);
+    assert!(trials(0.01, 0.01) > 0);
+    // Estimated at 0.04, too dear to try, unless the start's build took a quarter of its
+    // estimate (a sample's fixed costs, scaled up to all the objects).
+    assert_eq!(trials(0.04, 0.04), 0);
+    assert!(trials(0.01, 0.04) > 0);
 }
