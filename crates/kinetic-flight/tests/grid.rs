@@ -389,3 +389,44 @@ fn fast_bodies_leave_the_cells_and_come_back_through_replans_and_acceleration() 
     assert!(anchors > 100.0, "{anchors}");
     assert!(met_fast.len() >= 10, "{met_fast:?}");
 }
+
+#[test]
+fn a_sparse_layer_gets_cells_of_about_one_ball_each() {
+    // 1,000 balls of radius 0.1 in a layer of 100 x 100 (on a plane: one z), about 3 apart,
+    // rolling at speed 1 for 10. Cells of about one ball each (1.6 to 3.2 wide, the balls'
+    // own widened by a power of two) change a footprint about 16 times a ball; cells sized
+    // by the volume of the layer's box over the balls (a cube root of 3.2 times the
+    // balls' own, so 0.8 to 1.6 wide) about 32 times.
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let bodies: Vec<Option<Body>> = (0..1000)
+        .map(|_| {
+            let p = Vec3::new(
+                rng.random_range(0.0..100.0),
+                rng.random_range(0.0..100.0),
+                0.1,
+            );
+            let a: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+            Some(Body {
+                shape: Shape::Ball { radius: 0.1 },
+                plan: FlightPlan::linear(p, Vec3::new(a.cos(), a.sin(), 0.0)),
+            })
+        })
+        .collect();
+    let mut d = Driven::new(Grid::new());
+    let ids: Vec<u32> = (0..bodies.len() as u32).collect();
+    d.grid.insert_many(&ids, &bodies, 0.0, &mut d.changes);
+    d.absorb();
+    d.advance(&bodies, 10.0);
+    check_against_boxes(&d, &bodies, 10.0);
+    let crossings = d
+        .grid
+        .counters()
+        .into_iter()
+        .find(|c| c.0 == "crossings")
+        .map(|c| c.1)
+        .unwrap();
+    assert!(
+        crossings > 0.0 && crossings < 24.0 * 1000.0,
+        "{crossings} cell crossings for 1,000 balls"
+    );
+}

@@ -19,8 +19,8 @@ impl Grid {
     /// powers of two, down to the level below's) to the widest of those objects, so that a
     /// level holding only smaller objects than its nominal size does not draw every small
     /// object around into its cells; then, where the level's objects are sparse, widened to
-    /// about one of them per cell (at most [`MAX_WIDEN`] times): fewer crossings, and still
-    /// O(1) objects per cell.
+    /// about one of them per cell over their centres' box (at most [`MAX_WIDEN`] times):
+    /// fewer crossings, and still O(1) objects per cell.
     pub(super) fn widen_for(&mut self, ids: &[u32], bodies: &Bodies, now: Real) {
         let mut spread: FxHashMap<i32, (usize, Vec3, Vec3, Real)> = FxHashMap::default();
         for &id in ids {
@@ -46,10 +46,12 @@ impl Grid {
             }
             if n >= WIDEN_MIN_OBJECTS {
                 let own = nominal * f;
-                let volume = (hi - lo).max(Vec3::splat(own)).element_product();
-                let side = (volume / n as Real).cbrt();
+                // The cells of side `c` over the centres' box, at least one a row on each
+                // axis: a layer of objects (balls on a plane) or a line fills fewer than the
+                // cube of its widest side.
+                let cells = |c: Real| ((hi - lo) / c).max(Vec3::ONE).element_product();
                 let mut g = 1.0;
-                while g < MAX_WIDEN && 2.0 * g * own <= side {
+                while g < MAX_WIDEN && cells(2.0 * g * own) >= n as Real {
                     g *= 2.0;
                 }
                 f *= g;
