@@ -41,21 +41,24 @@ fn the_default_world_picks_its_structure_by_the_objects_it_holds() {
     for k in 0..50 {
         let p = Vec3::new(3.0 * k as f64, 0.0, 0.0);
         world.add_ball(1.0, FlightPlan::linear(p, Vec3::X)).unwrap();
-        let want = if k < 32 { "brute-force" } else { "loose-grid" };
+        let want = if k < 32 { "brute-force" } else { "grid" };
         assert_eq!(world.structure_name(), want, "{} balls", k + 1);
     }
     world.advance_to(world.now() + 1.0).unwrap();
-    assert_eq!(world.structure_name(), "loose-grid");
+    assert_eq!(world.structure_name(), "grid");
+    // Its footprints (twelve certificates a ball) and the few neighbours' pairs, not the
+    // brute force's 1,225 pairs.
     assert!(
-        world.certificates() < 200,
+        world.certificates() < 700,
         "{} certificates",
         world.certificates()
     );
-    // A boulder 100 times larger: the grid.
+    // A boulder 1e4 times larger among these few: the sweep, whose sorted lists do not care
+    // about sizes.
     world
-        .add_ball(100.0, FlightPlan::at_rest(Vec3::new(0.0, 5000.0, 0.0)))
+        .add_ball(1e4, FlightPlan::at_rest(Vec3::new(0.0, 5e5, 0.0)))
         .unwrap();
-    assert_eq!(world.structure_name(), "grid");
+    assert_eq!(world.structure_name(), "sweep");
     world.advance_to(world.now() + 1.0).unwrap();
     world.validate().unwrap();
     // The simulator without the flight crate keeps the brute force.

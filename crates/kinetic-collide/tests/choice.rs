@@ -38,7 +38,8 @@ fn the_default_applies_takes_every_branch_and_matches_the_brute_force() {
         assert_eq!(first, pick, "{kind}");
         assert_same_contacts(&reference.events, &got.events, kind);
     }
-    // The family exercises every branch of the rule.
+    // The family exercises every branch of the rule but the loose grid's (named above 200,000
+    // objects of alike sizes; the race tries it below).
     assert_eq!(
         picked.into_iter().collect::<Vec<_>>(),
         [
@@ -46,7 +47,6 @@ fn the_default_applies_takes_every_branch_and_matches_the_brute_force() {
             "cells",
             "grid",
             "lists",
-            "loose-grid",
             "sweep"
         ]
     );

@@ -40,8 +40,8 @@ impl Default for Auto {
 }
 
 impl Auto {
-    /// An empty structure (the brute force for a few dozen objects, then the loose grid until
-    /// sizes spread).
+    /// An empty structure (the brute force for a few dozen objects, then the box structure the
+    /// rule names: the grid for most worlds).
     pub(crate) fn new() -> Auto {
         Auto::with_least_flight(0.0)
     }
@@ -73,7 +73,7 @@ impl Auto {
             Structure::BruteForce
         } else {
             // What the objects will do is not known: the sweep for its spread alone.
-            for_flights(self.spread(), self.live, false, Real::INFINITY)
+            for_flights(self.spread(), self.live, Real::INFINITY)
         }
     }
 

@@ -8,12 +8,13 @@ use super::Structure;
 use kinetic_core::Real;
 use kinetic_flight::Grid;
 
-/// Sizes (outer radii, largest over smallest) spread by at most this factor: the loose grid,
-/// in [`for_flights`]; wider, the hierarchical grid. On the choice family
-/// (`cargo bench --bench choice -- --family 300 3000 10000`), the loose grid is up to 1.3x
-/// faster than the grid on equal balls (the gas, bullets, long horizons) and the grid 1.2x to
-/// 10x faster from sizes 1:60 on (asteroids and cuboids 1:60, balls 1:100 and 1:250, balls
-/// 1:1000 rolling on a plane); the bound sits between.
+/// Sizes (outer radii, largest over smallest) spread by at most this factor: the loose grid is
+/// tried by the race ([`super::Race`]), and named by [`for_flights`] for more objects than
+/// [`LOOSE_GRID_MIN`]. Wider, a few large objects hold regions that every region checks; on
+/// the choice family (`cargo bench --bench choice -- --family 300 3000 10000`) the grid was
+/// 1.2x to 10x faster from sizes 1:60 on (asteroids and cuboids 1:60, balls 1:100 and 1:250,
+/// balls 1:1000 rolling on a plane), and on 40 draws of the choice space the loose grid ran
+/// 2x to 50x the grid's time at sizes 1:36 to 1:3,773 (`cargo bench --bench choice`).
 pub(crate) const LOOSE_SPREAD: Real = 4.0;
 /// Sizes spread by at most this factor: the hierarchical grid, in [`for_flights`]; beyond
 /// it, the sweep. The grid was the fastest on every spread measured: balls of sizes 1:10^4
@@ -120,19 +121,19 @@ pub(crate) fn boxes_cost(n: usize, crossings: Real, contacts: Real) -> Real {
 /// `spread` (see [`spread`]), measured fastest on the choice family
 /// (`docs/results/choice.md`), in a free world or rolling on a plane alike:
 ///
-/// 1. objects of alike sizes (within [`LOOSE_SPREAD`]) that move past their first regions
-///    (not `stays`, see [`within_first_regions`]): the loose grid, one certificate per
-///    object;
-/// 2. within [`GRID_SPREAD`]: the hierarchical grid, exact box pairs level by level (for
-///    objects that barely move, the cheapest to build), unless fewer than [`FEW_OBJECTS`]
-///    spread past [`FEW_SPREAD`], or the sweep's estimated work is under [`SWEEP_SHARE`] of
-///    the grid's (`sweep_share`: the sweep's over the grid's, infinite where unknown);
+/// 1. more than [`LOOSE_GRID_MIN`] objects of alike sizes (within [`LOOSE_SPREAD`]): the
+///    loose grid, one certificate and a small region per object;
+/// 2. within [`GRID_SPREAD`]: the hierarchical grid, exact box pairs level by level, unless
+///    fewer than [`FEW_OBJECTS`] spread past [`FEW_SPREAD`], or the sweep's estimated work is
+///    under [`SWEEP_SHARE`] of the grid's (`sweep_share`: the sweep's over the grid's,
+///    infinite where unknown);
 /// 3. otherwise the sweep, whose sorted lists do not care about sizes.
 ///
-/// The guards are never picked: on every scene measured, one of the three is faster.
-pub(crate) fn for_flights(spread: Real, n: usize, stays: bool, sweep_share: Real) -> Structure {
+/// The guards are never picked: on every scene measured, one of the three is faster. The
+/// race tries the loose grid against the grid where sizes are alike.
+pub(crate) fn for_flights(spread: Real, n: usize, sweep_share: Real) -> Structure {
     let few = n < FEW_OBJECTS && spread > FEW_SPREAD;
-    if spread <= LOOSE_SPREAD && !stays {
+    if spread <= LOOSE_SPREAD && n > LOOSE_GRID_MIN {
         Structure::LooseGrid
     } else if spread <= GRID_SPREAD && !few && sweep_share >= SWEEP_SHARE {
         Structure::Grid
@@ -166,57 +167,51 @@ pub(crate) fn sweep_crossings(passes: Real) -> Real {
     passes * SWEEP_PASS_COST / CROSSING_COST
 }
 
-/// The most objects at rest for which the grid's build is the cheapest; above, its memory (2 kB an
-/// object at rest, against the loose grid's 0.8 kB) costs more than its build saves.
-pub(crate) const RESTING_GRID_MAX: usize = 200_000;
-
-/// Whether `n` objects crossing their own size `crossings` times in all stay, on average,
-/// within the regions the loose grid gives them at its build (which reach
-/// [`kinetic_flight::LOOSE_TRAVEL`] sizes of travel), and are few enough for the grid
-/// ([`RESTING_GRID_MAX`]). The loose grid then never re-anchors, where it saves on the
-/// grid's crossings: its run is its build and the contacts, and its regions, wider than the
-/// boxes, hold more pairs (8,000 cubes a tenth of their size apart, drifting a fifth of
-/// it: 291,926 region pairs against the grid's 15,323 box pairs, 3.2 s against 2.2 s).
-pub(crate) fn within_first_regions(n: usize, crossings: Real) -> bool {
-    n <= RESTING_GRID_MAX && crossings <= kinetic_flight::LOOSE_TRAVEL * n as Real
-}
+/// Above this many objects of alike sizes, the loose grid, in [`for_flights`]; up to it, the
+/// grid, and the race tries the loose grid. The grid's memory (2 kB an object at rest,
+/// against the loose grid's 0.8 kB) then costs more than its build saves. Below it, the grid
+/// widens its cells to about one object each where they are sparse, where the loose grid's
+/// regions stay two sizes of travel: on scenes of alike sizes written outside the project
+/// (`docs/results/choice.md`), the grid ran 1.04x to 26x faster on nine (50,000 sparse
+/// specks: 0.07 s against 0.52 s; 20,000 drifting balls 2.9x; a rain 6.5x), and the loose
+/// grid 1.02x to 1.44x on five (a fountain under gravity, lanes of balls crossing on a
+/// plane); on the 40 draws of the choice space, 0.90x to 1.14x either way.
+pub(crate) const LOOSE_GRID_MIN: usize = 200_000;
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
     /// The rule where the sweep's work is not known.
-    fn ff(spread: Real, n: usize, stays: bool) -> Structure {
-        for_flights(spread, n, stays, Real::INFINITY)
+    fn ff(spread: Real, n: usize) -> Structure {
+        for_flights(spread, n, Real::INFINITY)
     }
 
     #[test]
     fn flights_by_spread() {
         let many = 1000;
-        assert_eq!(ff(1.0, many, false), Structure::LooseGrid);
-        assert_eq!(ff(LOOSE_SPREAD, many, false), Structure::LooseGrid);
-        assert_eq!(ff(LOOSE_SPREAD * 1.01, many, false), Structure::Grid);
-        assert_eq!(ff(GRID_SPREAD, many, false), Structure::Grid);
-        assert_eq!(ff(GRID_SPREAD * 1.01, many, false), Structure::Sweep);
-        // Objects that barely move: the grid, the cheapest to build, within its spread.
-        assert_eq!(ff(1.0, many, true), Structure::Grid);
-        assert_eq!(ff(GRID_SPREAD * 1.01, many, true), Structure::Sweep);
+        // Alike sizes: the grid, the loose grid only for more objects than the grid's memory
+        // suits.
+        assert_eq!(ff(1.0, many), Structure::Grid);
+        assert_eq!(ff(LOOSE_SPREAD, LOOSE_GRID_MIN), Structure::Grid);
+        assert_eq!(ff(1.0, LOOSE_GRID_MIN + 1), Structure::LooseGrid);
+        assert_eq!(ff(LOOSE_SPREAD, LOOSE_GRID_MIN + 1), Structure::LooseGrid);
+        assert_eq!(ff(LOOSE_SPREAD * 1.01, LOOSE_GRID_MIN + 1), Structure::Grid);
+        assert_eq!(ff(GRID_SPREAD, many), Structure::Grid);
+        assert_eq!(ff(GRID_SPREAD * 1.01, many), Structure::Sweep);
         // A few objects of widely spread sizes: the sweep.
         let few = FEW_OBJECTS - 1;
-        assert_eq!(ff(FEW_SPREAD, few, false), Structure::Grid);
-        assert_eq!(ff(FEW_SPREAD * 1.01, few, false), Structure::Sweep);
-        assert_eq!(ff(FEW_SPREAD * 1.01, FEW_OBJECTS, false), Structure::Grid);
+        assert_eq!(ff(FEW_SPREAD, few), Structure::Grid);
+        assert_eq!(ff(FEW_SPREAD * 1.01, few), Structure::Sweep);
+        assert_eq!(ff(FEW_SPREAD * 1.01, FEW_OBJECTS), Structure::Grid);
         // The sweep where its estimated work is under a third of the grid's.
-        assert_eq!(for_flights(100.0, many, false, 0.5), Structure::Grid);
-        assert_eq!(for_flights(100.0, many, false, 0.2), Structure::Sweep);
-        assert_eq!(for_flights(2.0, many, false, 0.2), Structure::LooseGrid);
+        assert_eq!(for_flights(100.0, many, 0.5), Structure::Grid);
+        assert_eq!(for_flights(100.0, many, 0.2), Structure::Sweep);
+        assert_eq!(for_flights(2.0, many, 0.2), Structure::Sweep);
         // Not even tried where it would do ten times the grid's work.
         assert!(sweep_worth_trying(5.0));
         assert!(!sweep_worth_trying(20.0));
         assert!(sweep_worth_trying(Real::INFINITY));
-        assert!(within_first_regions(1000, 1500.0));
-        assert!(!within_first_regions(1000, 2500.0));
-        assert!(!within_first_regions(1_000_000, 0.0));
     }
 
     #[test]

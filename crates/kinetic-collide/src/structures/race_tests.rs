@@ -112,7 +112,7 @@ fn a_slow_trial_is_cut_short_and_the_leader_kept() {
 #[test]
 fn an_open_race_ends_on_the_fastest_within_its_share_of_the_run_so_far() {
     // A world of 2,000 objects advanced by 1/60 at a time, starting on the sweep.
-    let mut race = Race::open(Structure::Sweep, 2000, true, 1.0 / 60.0);
+    let mut race = Race::open(Structure::Sweep, 2000, 1.0, true, 1.0 / 60.0);
     let mut now = 0.0;
     for k in 1..=6000 {
         let t = k as f64 / 60.0;

@@ -150,15 +150,14 @@ impl Structure {
         }
     }
 
-    /// The box structure the cost model picks for `scene` (the loose grid, the grid or the
-    /// sweep, by the spread of sizes, whether the objects move past their first loose regions
-    /// and the sweep's estimated work against the grid's).
+    /// The box structure the cost model picks for `scene` (the grid, the sweep or the loose
+    /// grid, by the spread of sizes, the number of objects and the sweep's estimated work
+    /// against the grid's).
     pub(crate) fn boxes_for(scene: &Scene) -> Structure {
         let n = scene.objects.len();
         let crossings = scene_measures::crossings(scene);
-        let stays = cost::within_first_regions(n, crossings);
         let share = Structure::sweep_share(scene, crossings);
-        cost::for_flights(scene.size_ratio(), n, stays, share)
+        cost::for_flights(scene.size_ratio(), n, share)
     }
 
     /// The sweep's estimated work on `scene` over the grid's (see [`cost::SWEEP_SHARE`]),
