@@ -42,13 +42,7 @@ fn the_default_applies_takes_every_branch_and_matches_the_brute_force() {
     // objects of alike sizes; the race tries it below).
     assert_eq!(
         picked.into_iter().collect::<Vec<_>>(),
-        [
-            "brute-force",
-            "cells",
-            "grid",
-            "lists",
-            "sweep"
-        ]
+        ["brute-force", "cells", "grid", "lists", "sweep"]
     );
 }
 
