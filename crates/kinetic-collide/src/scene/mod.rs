@@ -131,16 +131,20 @@ pub type Result<T> = std::result::Result<T, SceneError>;
 impl Scene {
     /// The largest ratio between two objects' outer radii (1 for fewer than two objects).
     pub fn size_ratio(&self) -> f64 {
-        let (lo, hi) = self
-            .objects
-            .iter()
-            .map(|o| outer_radius(&o.shape))
-            .filter(|&r| r > 0.0)
-            .fold((f64::INFINITY, 0.0_f64), |(lo, hi), r| {
-                (lo.min(r), hi.max(r))
-            });
-        if hi > 0.0 { hi / lo } else { 1.0 }
+        radius_spread(self.objects.iter().map(|o| outer_radius(&o.shape)))
     }
+}
+
+/// The largest ratio between two of `radii` (those above 0; 1 for fewer than two): the
+/// spread of sizes the structure choice weighs, for a scene or a world's objects.
+pub(crate) fn radius_spread(radii: impl IntoIterator<Item = f64>) -> f64 {
+    let (lo, hi) = radii
+        .into_iter()
+        .filter(|&r| r > 0.0)
+        .fold((f64::INFINITY, 0.0_f64), |(lo, hi), r| {
+            (lo.min(r), hi.max(r))
+        });
+    if hi > 0.0 { hi / lo } else { 1.0 }
 }
 
 /// The radius of the ball around the object's origin that holds the shape.

@@ -118,7 +118,7 @@ pub(crate) fn boxes_cost(n: usize, crossings: Real, contacts: Real) -> Real {
 }
 
 /// The structure for an exact event simulation of `n` objects whose outer radii spread by
-/// `spread` (see [`spread`]), measured fastest on the choice family
+/// `spread` (see [`crate::scene::radius_spread`]), measured fastest on the choice family
 /// (`docs/results/choice.md`), in a free world or rolling on a plane alike:
 ///
 /// 1. more than [`LOOSE_GRID_MIN`] objects of alike sizes (within [`LOOSE_SPREAD`]): the

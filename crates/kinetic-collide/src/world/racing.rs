@@ -90,17 +90,13 @@ impl World {
                             && self.inner.bodies().iter().flatten().all(|b| {
                                 matches!(b.shape, Shape::Ball { .. }) && b.plan.degree() <= 1
                             });
-                    let (lo, hi) = self
-                        .inner
-                        .bodies()
-                        .iter()
-                        .flatten()
-                        .map(|b| b.shape.outer_radius())
-                        .filter(|&r| r > 0.0)
-                        .fold((f64::INFINITY, 0.0_f64), |(lo, hi), r| {
-                            (lo.min(r), hi.max(r))
-                        });
-                    let spread = if hi > 0.0 { hi / lo } else { 1.0 };
+                    let spread = crate::scene::radius_spread(
+                        self.inner
+                            .bodies()
+                            .iter()
+                            .flatten()
+                            .map(|b| b.shape.outer_radius()),
+                    );
                     let race = Race::open(racing.pick, self.inner.len(), spread, passing, t - now);
                     racing.race.insert(race)
                 }
